@@ -1,0 +1,2 @@
+//! pdcontact: peridynamic point-to-surface contact from finite-element meshes.
+pub use pdcontact_importers as importers;
