@@ -105,8 +105,7 @@ pub fn describe_found(bytes: &[u8]) -> String {
         return "NUL bytes".to_string();
     }
     let mut s = String::from("'");
-    let mut count = 0;
-    for &b in trimmed {
+    for (count, &b) in trimmed.iter().enumerate() {
         if count >= 40 {
             s.push_str("...");
             break;
@@ -116,7 +115,6 @@ pub fn describe_found(bytes: &[u8]) -> String {
             b'\t' => s.push_str("\\t"),
             _ => s.push_str(&format!("\\x{b:02x}")),
         }
-        count += 1;
     }
     s.push('\'');
     s

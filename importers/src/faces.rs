@@ -8,8 +8,12 @@
 
 use crate::mesh::{ElementKind, Mesh, MISSING_NODE};
 
-/// Which corners of each solid form its faces (cyclic order; winding fixed later by geometry).
-fn face_table(kind: ElementKind) -> &'static [&'static [usize]] {
+/// Which corners of each solid form its faces, in cyclic order.
+///
+/// For an element in the documented corner convention (see [`crate::mesh`]) every face is wound
+/// outward (FORMATS.md §4 "outward" column). Boundary faces do not rely on this: their winding is
+/// fixed by geometry. Element volumes do: a mirrored element gets a negative volume.
+pub fn face_corners(kind: ElementKind) -> &'static [&'static [usize]] {
     match kind.linear() {
         ElementKind::Hex8 => &[
             &[0, 3, 2, 1],
@@ -89,7 +93,7 @@ pub fn boundary_faces(mesh: &Mesh) -> FaceSet {
         if corners.contains(&MISSING_NODE) {
             continue;
         }
-        for (local, face) in face_table(e.kind).iter().enumerate() {
+        for (local, face) in face_corners(e.kind).iter().enumerate() {
             let mut key = [u32::MAX; 4];
             for (k, &c) in face.iter().enumerate() {
                 key[k] = corners[c];
@@ -102,7 +106,7 @@ pub fn boundary_faces(mesh: &Mesh) -> FaceSet {
             });
         }
     }
-    entries.sort_unstable_by(|a, b| a.key.cmp(&b.key));
+    entries.sort_unstable_by_key(|e| e.key);
 
     let mut owners: Vec<(u32, u8)> = Vec::new();
     let mut non_manifold = 0;
@@ -136,7 +140,7 @@ pub fn boundary_faces(mesh: &Mesh) -> FaceSet {
 fn oriented_face(mesh: &Mesh, element: u32, local: usize) -> BoundaryFace {
     let e = mesh.element(element as usize);
     let corners = e.corners();
-    let face = face_table(e.kind)[local];
+    let face = face_corners(e.kind)[local];
     let mut nodes = [0u32; 4];
     for (k, &c) in face.iter().enumerate() {
         nodes[k] = corners[c];
@@ -148,8 +152,8 @@ fn oriented_face(mesh: &Mesh, element: u32, local: usize) -> BoundaryFace {
     let centroid = |ns: &[u32]| {
         let mut c = [0.0; 3];
         for &n in ns {
-            for k in 0..3 {
-                c[k] += p(n)[k];
+            for (ck, pk) in c.iter_mut().zip(p(n)) {
+                *ck += pk;
             }
         }
         c.map(|v| v / ns.len() as f64)

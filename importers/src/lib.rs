@@ -23,7 +23,7 @@ mod text;
 use std::path::Path;
 
 pub use error::{describe_found, ImportError, Location};
-pub use faces::{boundary_faces, BoundaryFace, FaceSet};
+pub use faces::{boundary_faces, face_corners, BoundaryFace, FaceSet};
 pub use mesh::{ElementKind, ElementRef, Format, Mesh, NamedSet, NodeIndex, SetKind, MISSING_NODE};
 pub use summary::MeshSummary;
 
