@@ -1,0 +1,242 @@
+//! VTK output for ParaView: `.vtu` unstructured grids (vtkio, XML, zlib-compressed binary) and
+//! `.pvd` collections for time series.
+//!
+//! Every file is written to a temporary name beside its target and renamed when complete, so
+//! an interrupted run never leaves a truncated file under the real name.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use vtkio::model::{
+    Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, IOBuffer,
+    UnstructuredGridPiece, Version, VertexNumbers, Vtk,
+};
+use vtkio::xml::Compressor;
+
+use crate::discretize::Vec3;
+use crate::error::{Error, Result};
+
+/// One named data array.
+#[derive(Clone, Debug)]
+pub enum Field {
+    /// Real scalars.
+    Scalar(String, Vec<f64>),
+    /// Real 3-vectors.
+    Vector(String, Vec<Vec3>),
+    /// Small integers (flags, body numbers).
+    Int(String, Vec<i32>),
+    /// Large integers (node ids).
+    Id(String, Vec<i64>),
+}
+
+impl Field {
+    /// A scalar field.
+    pub fn scalar(name: &str, data: Vec<f64>) -> Field {
+        Field::Scalar(name.to_string(), data)
+    }
+    /// A vector field.
+    pub fn vector(name: &str, data: Vec<Vec3>) -> Field {
+        Field::Vector(name.to_string(), data)
+    }
+    /// A 0/1 flag field.
+    pub fn flag(name: &str, data: &[bool]) -> Field {
+        Field::Int(name.to_string(), data.iter().map(|&b| b as i32).collect())
+    }
+    /// An integer field.
+    pub fn int(name: &str, data: Vec<i32>) -> Field {
+        Field::Int(name.to_string(), data)
+    }
+    /// An id field.
+    pub fn id(name: &str, data: Vec<i64>) -> Field {
+        Field::Id(name.to_string(), data)
+    }
+
+    fn into_attribute(self) -> Attribute {
+        match self {
+            Field::Scalar(n, d) => Attribute::DataArray(DataArray::scalars(n, 1).with_data(d)),
+            Field::Vector(n, d) => {
+                let flat: Vec<f64> = d.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
+                Attribute::DataArray(DataArray::vectors(n).with_data(flat))
+            }
+            Field::Int(n, d) => Attribute::DataArray(DataArray::scalars(n, 1).with_data(d)),
+            Field::Id(n, d) => Attribute::DataArray(DataArray::scalars(n, 1).with_data(d)),
+        }
+    }
+}
+
+/// The cells of a grid.
+#[derive(Clone, Debug)]
+pub enum CellSpec {
+    /// One vertex cell per point (a particle cloud).
+    Vertices,
+    /// Quads given as 4 point indices; `[a, b, c, c]` is written as a triangle.
+    Quads(Vec<[u32; 4]>),
+}
+
+/// Writes an unstructured grid to `path` (atomically).
+pub fn write_vtu(
+    path: &Path,
+    points: &[Vec3],
+    cells: CellSpec,
+    point_data: Vec<Field>,
+    cell_data: Vec<Field>,
+) -> Result<()> {
+    let coords: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
+    let (connectivity, offsets, types) = match cells {
+        CellSpec::Vertices => (
+            (0..points.len() as u64).collect(),
+            (1..=points.len() as u64).collect(),
+            vec![CellType::Vertex; points.len()],
+        ),
+        CellSpec::Quads(quads) => {
+            let mut conn = Vec::with_capacity(4 * quads.len());
+            let mut offs = Vec::with_capacity(quads.len());
+            let mut types = Vec::with_capacity(quads.len());
+            for q in &quads {
+                if q[2] == q[3] {
+                    conn.extend(q[..3].iter().map(|&i| i as u64));
+                    types.push(CellType::Triangle);
+                } else {
+                    conn.extend(q.iter().map(|&i| i as u64));
+                    types.push(CellType::Quad);
+                }
+                offs.push(conn.len() as u64);
+            }
+            (conn, offs, types)
+        }
+    };
+    let piece = UnstructuredGridPiece {
+        points: IOBuffer::F64(coords),
+        cells: Cells {
+            cell_verts: VertexNumbers::XML {
+                connectivity,
+                offsets,
+            },
+            types,
+        },
+        data: Attributes {
+            point: point_data.into_iter().map(Field::into_attribute).collect(),
+            cell: cell_data.into_iter().map(Field::into_attribute).collect(),
+        },
+    };
+    let vtk = Vtk {
+        version: Version::new_xml(1, 0),
+        byte_order: ByteOrder::LittleEndian,
+        title: String::new(),
+        file_path: None,
+        data: DataSet::inline(piece),
+    };
+    let xml = vtk
+        .try_into_xml_format(Compressor::ZLib, 1)
+        .map_err(|e| Error::output(path, e))?;
+    write_atomically(path, |w| {
+        xml.write(w)
+            .map_err(|e| std::io::Error::other(e.to_string()))
+    })
+}
+
+/// A `.pvd` collection: one entry per time step.
+#[derive(Clone, Debug, Default)]
+pub struct PvdCollection {
+    entries: Vec<(f64, String)>,
+}
+
+impl PvdCollection {
+    /// Adds a file (relative to the `.pvd`) at time `t`.
+    pub fn push(&mut self, t: f64, file: impl Into<String>) {
+        self.entries.push((t, file.into()));
+    }
+
+    /// Number of entries.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// Writes the collection (atomically), so that ParaView opens it as a time series.
+    pub fn write(&self, path: &Path) -> Result<()> {
+        let mut s = String::from(
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
+        );
+        for (t, f) in &self.entries {
+            s.push_str(&format!(
+                "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
+                xml_escape(f)
+            ));
+        }
+        s.push_str("  </Collection>\n</VTKFile>\n");
+        write_atomically(path, |w| w.write_all(s.as_bytes()))
+    }
+}
+
+fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('"', "&quot;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// Writes a file through `write` to a temporary name in the same folder, then renames it.
+pub fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
+) -> Result<()> {
+    let tmp = temporary_name(path);
+    let result = (|| {
+        let file = std::fs::File::create(&tmp)?;
+        let mut w = std::io::BufWriter::new(file);
+        write(&mut w)?;
+        w.flush()?;
+        w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    result.map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        Error::output(path, e)
+    })
+}
+
+fn temporary_name(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    path.with_file_name(format!(".{name}.partial"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn writes_and_reads_back() {
+        let dir = std::env::temp_dir().join(format!("pdcontact-vtk-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let path = dir.join("p.vtu");
+        let pts = vec![
+            Vec3::zeros(),
+            Vec3::x(),
+            Vec3::y(),
+            Vec3::new(1.0, 1.0, 0.0),
+        ];
+        write_vtu(
+            &path,
+            &pts,
+            CellSpec::Quads(vec![[0, 1, 3, 2], [0, 1, 2, 2]]),
+            vec![Field::scalar("volume", vec![1.0, 2.0, 3.0, 4.0])],
+            vec![Field::scalar("area", vec![1.0, 0.5])],
+        )
+        .expect("written");
+        let back = Vtk::import(&path).expect("vtkio reads its own file");
+        let DataSet::UnstructuredGrid { pieces, .. } = back.data else {
+            panic!("not an unstructured grid");
+        };
+        assert_eq!(pieces.len(), 1);
+        assert!(!dir.join(".p.vtu.partial").exists());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
