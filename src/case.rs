@@ -6,18 +6,137 @@ use std::time::Instant;
 
 use pdcontact_importers::{boundary_faces, FaceSet, Mesh};
 
-use crate::correction::{surface_correction, CorrectionMethod, SurfaceCorrection};
-use crate::discretize::{discretize, Discretization};
+use crate::correction::{surface_correction_with, CorrectionMethod, SurfaceCorrection};
+use crate::discretize::{discretize, Discretization, Vec3};
 use crate::error::{Error, Result};
-use crate::neighbours::{build_bonds, BondList};
+use crate::neighbours::{build_bonds_from, BondList};
 use crate::segments::{master_segments, SegmentSet};
 use crate::surface::{detect_surface, SurfaceDetection};
 
 /// Default horizon factor `m` (δ = m·Δ).
 pub const DEFAULT_HORIZON_FACTOR: f64 = 3.0;
 
+/// A symmetry plane `x_axis = at`: the body is mirrored across it (METHOD.md §6).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SymmetryPlane {
+    /// 0, 1 or 2 for x, y, z.
+    pub axis: usize,
+    pub at: f64,
+}
+
+/// Mirror images ("ghost particles") of a body across its symmetry planes.
+///
+/// A particle within reach of a plane bonds to the images of its neighbours across it, so
+/// that a half (or quarter) model carries the neighbourhoods of the whole body. Image `g`
+/// reflects particle `source[g]` across the planes in the bit mask `mask[g]`; it is indexed
+/// `n + g` in the bond partner arrays, after the `n` real particles. Images have no bonds.
+#[derive(Clone, Debug, Default)]
+pub struct Ghosts {
+    pub planes: Vec<SymmetryPlane>,
+    pub source: Vec<u32>,
+    pub mask: Vec<u8>,
+    /// Per real particle: bit mask of the planes it lies on.
+    pub on_plane: Vec<u8>,
+}
+
+impl Ghosts {
+    /// Reflects a point across the planes of `mask`.
+    #[inline]
+    pub fn reflect(&self, mut p: Vec3, mask: u8) -> Vec3 {
+        for (k, plane) in self.planes.iter().enumerate() {
+            if mask & (1 << k) != 0 {
+                p[plane.axis] = 2.0 * plane.at - p[plane.axis];
+            }
+        }
+        p
+    }
+
+    /// Real positions followed by their images.
+    pub fn extend_positions(&self, real: &[Vec3], out: &mut Vec<Vec3>) {
+        out.clear();
+        out.extend_from_slice(real);
+        out.extend(
+            self.source
+                .iter()
+                .zip(&self.mask)
+                .map(|(&s, &m)| self.reflect(real[s as usize], m)),
+        );
+    }
+
+    /// Real values followed by their sources' values.
+    pub fn extend<T: Copy>(&self, real: &[T]) -> Vec<T> {
+        let mut v = real.to_vec();
+        v.extend(self.source.iter().map(|&s| real[s as usize]));
+        v
+    }
+
+    /// The real particle behind index `j` (itself, or an image's source).
+    #[inline]
+    pub fn source_of(&self, j: usize, n: usize) -> usize {
+        if j < n {
+            j
+        } else {
+            self.source[j - n] as usize
+        }
+    }
+
+    /// The share of a particle that its model holds: ½ per symmetry plane it lies on.
+    pub fn share(&self, i: usize) -> f64 {
+        0.5f64.powi(self.on_plane.get(i).map_or(0, |m| m.count_ones() as i32))
+    }
+
+    /// Volumes as bond partners see them: a particle on a symmetry plane holds only its
+    /// share of a volume that lies on both sides; its partners see the whole. (Its own bonds
+    /// keep its share, so the pair weights differ; the mirrored pairs restore the balance.)
+    pub fn partner_volumes(&self, volume: &[f64]) -> Vec<f64> {
+        let whole: Vec<f64> = volume
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v / self.share(i))
+            .collect();
+        self.extend(&whole)
+    }
+
+    /// Images of the particles within `reach` of the planes.
+    fn build(planes: &[SymmetryPlane], position: &[Vec3], reach: f64, tol: f64) -> Ghosts {
+        let on_plane: Vec<u8> = position
+            .iter()
+            .map(|p| {
+                planes
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, pl)| (p[pl.axis] - pl.at).abs() <= tol)
+                    .fold(0u8, |m, (k, _)| m | (1 << k))
+            })
+            .collect();
+        let mut g = Ghosts {
+            planes: planes.to_vec(),
+            on_plane,
+            ..Default::default()
+        };
+        for mask in 1u8..(1 << planes.len()) {
+            for (i, p) in position.iter().enumerate() {
+                // An image across a plane the particle lies on is the particle itself.
+                if g.on_plane[i] & mask != 0 {
+                    continue;
+                }
+                let near = planes
+                    .iter()
+                    .enumerate()
+                    .filter(|(k, _)| mask & (1 << k) != 0)
+                    .all(|(_, pl)| (p[pl.axis] - pl.at).abs() <= 0.5 * reach);
+                if near {
+                    g.source.push(i as u32);
+                    g.mask.push(mask);
+                }
+            }
+        }
+        g
+    }
+}
+
 /// Options of the discretisation.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct CaseOptions {
     /// Grid spacing Δ; `None` takes the median element edge.
     pub spacing: Option<f64>,
@@ -25,6 +144,8 @@ pub struct CaseOptions {
     pub horizon_factor: f64,
     /// How to compute surface correction factors.
     pub correction: CorrectionMethod,
+    /// Symmetry planes: the body's mirror images across them complete its neighbourhoods.
+    pub symmetry: Vec<SymmetryPlane>,
 }
 
 impl Default for CaseOptions {
@@ -33,6 +154,7 @@ impl Default for CaseOptions {
             spacing: None,
             horizon_factor: DEFAULT_HORIZON_FACTOR,
             correction: CorrectionMethod::Balanced,
+            symmetry: Vec::new(),
         }
     }
 }
@@ -70,6 +192,8 @@ pub struct PdCase {
     pub surface: SurfaceDetection,
     pub correction: SurfaceCorrection,
     pub segments: SegmentSet,
+    /// Mirror images across symmetry planes (empty without planes).
+    pub ghosts: Ghosts,
     pub times: StageTimes,
 }
 
@@ -91,25 +215,35 @@ impl PdCase {
         // Bonds reach δ + r (r = Δ/2, Eq. 10); the surface kernel reaches 3h = 3Δ. One list
         // serves both; the 1e-9 keeps lattice bonds exactly at the edge.
         let reach = (horizon + 0.5 * spacing).max(3.0 * spacing) * (1.0 + 1e-9);
-        let bonds = build_bonds(&particles.position, reach);
+        let ghosts = Ghosts::build(
+            &options.symmetry,
+            &particles.position,
+            2.0 * reach,
+            1e-6 * spacing,
+        );
+        let mut position = Vec::new();
+        ghosts.extend_positions(&particles.position, &mut position);
+        let bonds = build_bonds_from(&position, particles.len(), reach);
         times.neighbours = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
-        let surface = detect_surface(
-            &particles.position,
-            &particles.completed_volume(),
-            &bonds,
-            spacing,
-        );
+        // Completed volumes V/ω: for a particle on a symmetry plane the share the model holds
+        // cancels between V and ω, so they are the whole particle's, as its images need.
+        let completed = particles.completed_volume();
+        let surface = detect_surface(&position, &ghosts.extend(&completed), &bonds, spacing);
         times.surface = t.elapsed().as_secs_f64();
 
         // Drop the pairs that only the surface kernel needed.
         let bonds = trim_bonds(bonds, (horizon + 0.5 * spacing) * (1.0 + 1e-9));
 
         let t = Instant::now();
-        let correction = surface_correction(
-            &particles.position,
-            &particles.volume,
+        let source: Vec<usize> = (0..position.len())
+            .map(|j| ghosts.source_of(j, particles.len()))
+            .collect();
+        let correction = surface_correction_with(
+            &position,
+            &ghosts.partner_volumes(&particles.volume),
+            &source,
             &bonds,
             horizon,
             spacing,
@@ -118,7 +252,18 @@ impl PdCase {
         times.correction = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
-        let faces = boundary_faces(&mesh);
+        let mut faces = boundary_faces(&mesh);
+        if !options.symmetry.is_empty() {
+            // Faces on a symmetry plane are cuts, not surfaces: the images cover them.
+            let tol = 1e-6 * spacing;
+            faces.boundary.retain(|f| {
+                !options.symmetry.iter().any(|pl| {
+                    f.nodes
+                        .iter()
+                        .all(|&n| (mesh.coords[n as usize][pl.axis] - pl.at).abs() <= tol)
+                })
+            });
+        }
         let segments = master_segments(&faces, &particles, &surface.is_surface);
         times.segments = t.elapsed().as_secs_f64();
 
@@ -132,6 +277,7 @@ impl PdCase {
             surface,
             correction,
             segments,
+            ghosts,
             times,
         })
     }
@@ -205,5 +351,79 @@ mod tests {
         let a = case.surface_agreement();
         assert_eq!((a.missed, a.extra), (0, 0), "{a:?}");
         assert_eq!(case.segments.segments.len(), case.faces.boundary.len());
+    }
+}
+
+#[cfg(test)]
+mod symmetry_tests {
+    use super::*;
+    use crate::discretize::Vec3;
+    use crate::generators;
+
+    /// A quarter of a box with two symmetry planes reproduces the whole box particle by
+    /// particle: eigenvalues, surface flags, normals and correction factors.
+    #[test]
+    fn quarter_box_matches_the_whole_box() {
+        let whole = PdCase::build(
+            generators::cuboid([-0.8, -0.8, 0.0], [0.8, 0.8, 0.6], 0.1),
+            CaseOptions::default(),
+        )
+        .expect("whole box");
+        let quarter = PdCase::build(
+            generators::cuboid([0.0, 0.0, 0.0], [0.8, 0.8, 0.6], 0.1),
+            CaseOptions {
+                symmetry: vec![
+                    SymmetryPlane { axis: 0, at: 0.0 },
+                    SymmetryPlane { axis: 1, at: 0.0 },
+                ],
+                ..CaseOptions::default()
+            },
+        )
+        .expect("quarter box");
+        let find = |case: &PdCase, p: Vec3| {
+            (0..case.particles.len())
+                .find(|&i| (case.particles.position[i] - p).norm() < 1e-9)
+                .expect("same lattice")
+        };
+        for (q, p) in quarter.particles.position.iter().enumerate() {
+            let w = find(&whole, *p);
+            let (lq, lw) = (quarter.surface.lambda_min[q], whole.surface.lambda_min[w]);
+            assert!(
+                (lq - lw).abs() < 1e-9,
+                "λ at {:?}: quarter {lq}, whole {lw}",
+                p.as_slice()
+            );
+            assert_eq!(
+                quarter.surface.is_surface[q],
+                whole.surface.is_surface[w],
+                "at {:?}",
+                p.as_slice()
+            );
+            assert!(
+                (quarter.surface.normal[q] - whole.surface.normal[w]).norm() < 1e-6,
+                "normal at {:?}",
+                p.as_slice()
+            );
+            for k in 0..3 {
+                let (gq, gw) = (quarter.correction.g[q][k], whole.correction.g[w][k]);
+                assert!(
+                    (gq / gw - 1.0).abs() < 1e-3,
+                    "g at {:?}: {gq} vs {gw}",
+                    p.as_slice()
+                );
+            }
+        }
+        // Faces on the cut planes are not master segments.
+        assert!(quarter
+            .segments
+            .segments
+            .iter()
+            .all(|s| s
+                .nodes
+                .iter()
+                .any(|&n| quarter.particles.position[n as usize].x > 1e-9)
+                && s.nodes
+                    .iter()
+                    .any(|&n| quarter.particles.position[n as usize].y > 1e-9)));
     }
 }

@@ -102,7 +102,7 @@ fn relative_energies(
 ) -> Vec<[f64; 3]> {
     // With c = 12E/(πδ⁴), W_∞ = (3/5) E ε² gives ¼ c ε² / W_∞ = 5/(π δ⁴).
     let scale = 5.0 / (std::f64::consts::PI * horizon.powi(4));
-    (0..position.len())
+    (0..bonds.particles())
         .into_par_iter()
         .map(|i| {
             let mut w = [0.0; 3];
@@ -129,6 +129,8 @@ fn max_error(w: &[[f64; 3]]) -> f64 {
 }
 
 /// Computes the surface correction for a body. It does not depend on E: `c` cancels in `g`.
+/// `position` and `volume` may extend past the bond owners (mirror images across symmetry
+/// planes); `source` maps every index to the particle whose factors it shares.
 pub fn surface_correction(
     position: &[Vec3],
     volume: &[f64],
@@ -137,6 +139,21 @@ pub fn surface_correction(
     spacing: f64,
     method: CorrectionMethod,
 ) -> SurfaceCorrection {
+    let source: Vec<usize> = (0..position.len()).collect();
+    surface_correction_with(position, volume, &source, bonds, horizon, spacing, method)
+}
+
+/// [`surface_correction`] with an explicit image → source map.
+pub fn surface_correction_with(
+    position: &[Vec3],
+    volume: &[f64],
+    source: &[usize],
+    bonds: &BondList,
+    horizon: f64,
+    spacing: f64,
+    method: CorrectionMethod,
+) -> SurfaceCorrection {
+    let n = bonds.particles();
     let energies = |f: &(dyn Fn(usize, usize, [f64; 3]) -> f64 + Sync)| {
         relative_energies(position, volume, bonds, horizon, spacing, f)
     };
@@ -149,12 +166,12 @@ pub fn surface_correction(
 
     let (g, combine): (Vec<[f64; 3]>, Combine) = match method {
         CorrectionMethod::None => {
-            let bond_factor = (0..position.len())
+            let bond_factor = (0..n)
                 .flat_map(|i| bonds.range(i))
                 .map(|b| volume_correction(bonds.length[b], horizon, spacing))
                 .collect();
             return SurfaceCorrection {
-                g: vec![[1.0; 3]; position.len()],
+                g: vec![[1.0; 3]; n],
                 bond_factor,
                 max_energy_error: max_error(&raw),
                 passes,
@@ -171,7 +188,7 @@ pub fn surface_correction(
             // Iterate on r = 1/g, so that 1/ḡ² = r_i r_j costs one product per axis.
             let mut r: Vec<[f64; 3]> = first_g.iter().map(|g| g.map(|x| 1.0 / x)).collect();
             loop {
-                let w = energies(&|i, j, n2| ellipsoid(n2, combine(&r[i], &r[j])));
+                let w = energies(&|i, j, n2| ellipsoid(n2, combine(&r[i], &r[source[j]])));
                 passes += 1;
                 if max_error(&w) < BALANCE_TOLERANCE || passes >= MAX_PASSES {
                     break;
@@ -193,9 +210,9 @@ pub fn surface_correction(
         CorrectionMethod::Balanced => g.iter().map(|gi| gi.map(|x| 1.0 / x)).collect(),
         _ => g.clone(),
     };
-    let final_w = energies(&|i, j, n2| ellipsoid(n2, combine(&operand[i], &operand[j])));
+    let final_w = energies(&|i, j, n2| ellipsoid(n2, combine(&operand[i], &operand[source[j]])));
     passes += 1;
-    let bond_factor: Vec<f64> = (0..position.len())
+    let bond_factor: Vec<f64> = (0..n)
         .into_par_iter()
         .flat_map_iter(|i| {
             let operand = &operand;
@@ -204,7 +221,7 @@ pub fn surface_correction(
                 let len = bonds.length[b];
                 let d = (position[j] - position[i]) / len;
                 let n2 = [d.x * d.x, d.y * d.y, d.z * d.z];
-                ellipsoid(n2, combine(&operand[i], &operand[j]))
+                ellipsoid(n2, combine(&operand[i], &operand[source[j]]))
                     * volume_correction(len, horizon, spacing)
             })
         })

@@ -114,7 +114,8 @@ fn divisions(length: f64, spacing: f64, min: usize) -> usize {
 /// Sets: element set `ball`; node sets `surface` (all nodes on the sphere) and `top` (surface
 /// nodes with z ≥ 0.9 R, a place to apply a load).
 pub fn sphere(radius: f64, spacing: f64) -> Mesh {
-    let n = divisions(std::f64::consts::FRAC_PI_2 * radius, spacing, 2);
+    // An even count puts node planes on x = 0, y = 0, z = 0 (symmetry cuts).
+    let n = 2 * divisions(std::f64::consts::FRAC_PI_4 * radius, spacing, 1);
     // Inner cube half-side: its corners must stay well inside the sphere (a√3 < R).
     let a = 0.55 * radius;
     let nr = divisions(radius - a, spacing, 1);
@@ -156,7 +157,7 @@ pub fn sphere(radius: f64, spacing: f64) -> Mesh {
 /// Sets: element set `roller`; node sets `surface` (the curved surface), `ymin`, `ymax` (the
 /// end faces) and `top` (curved-surface nodes with z ≥ 0.9 R).
 pub fn cylinder(radius: f64, length: f64, spacing: f64) -> Mesh {
-    let n = divisions(std::f64::consts::FRAC_PI_2 * radius, spacing, 2);
+    let n = 2 * divisions(std::f64::consts::FRAC_PI_4 * radius, spacing, 1);
     let a = 0.55 * radius;
     let nr = divisions(radius - a, spacing, 1);
     let ny = divisions(length, spacing, 1);

@@ -15,16 +15,28 @@
 //! | VTK output | [`vtk`] |
 //! | `convert` | [`convert`] |
 
+// `!(x > 0.0)` is the NaN-rejecting test the numerics want (a NaN must fail the check), and
+// index loops over several parallel arrays read better than zipped iterators here.
+#![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
+
 pub use pdcontact_importers as importers;
 
+pub mod analysis;
+pub mod body;
 pub mod case;
+pub mod contact;
 pub mod convert;
 pub mod correction;
 pub mod discretize;
 pub mod error;
 pub mod generators;
+pub mod model;
 pub mod neighbours;
+pub mod output;
+pub mod run;
+pub mod scene;
 pub mod segments;
+pub mod solver;
 pub mod surface;
 pub mod vtk;
 

@@ -6,7 +6,11 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use pdcontact::case::{CaseOptions, DEFAULT_HORIZON_FACTOR};
 use pdcontact::importers::{Format, MeshSummary};
+use pdcontact::run::{run_scene, RunOptions};
+use pdcontact::scene::Scene;
 use pdcontact::Error;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// Peridynamic point-to-surface contact from finite-element meshes.
 #[derive(Parser, Debug)]
@@ -49,6 +53,20 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Run a scene file: frames for ParaView and summary.json in the output folder.
+    Run {
+        /// The scene (TOML).
+        scene: PathBuf,
+        /// Output folder (default: the scene's output.folder).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Print summary.json on stdout.
+        #[arg(long)]
+        json: bool,
+        /// No progress on stderr.
+        #[arg(long)]
+        quiet: bool,
+    },
 }
 
 fn parse_format(s: &str) -> Result<Format, String> {
@@ -90,6 +108,7 @@ fn run(cli: Cli) -> Result<(), Error> {
                 spacing,
                 horizon_factor,
                 correction: pdcontact::correction::CorrectionMethod::Balanced,
+                symmetry: Vec::new(),
             };
             let (_, summary) = pdcontact::convert::convert(&mesh, format, &output, options)?;
             if json {
@@ -100,7 +119,43 @@ fn run(cli: Cli) -> Result<(), Error> {
             }
             Ok(())
         }
+        Command::Run {
+            scene,
+            output,
+            json,
+            quiet,
+        } => {
+            let scene = Scene::load(&scene)?;
+            let options = RunOptions {
+                output,
+                quiet,
+                stop: Some(stop_flag()),
+            };
+            let (_, summary) = run_scene(&scene, &options)?;
+            if json {
+                println!("{}", to_json(&summary));
+            } else if !quiet {
+                eprintln!(
+                    "{} iterations, residual {:.3e}, {} contacts, force balance error {:.3e}, {:.1} s; frames in {}",
+                    summary.iterations,
+                    summary.residual,
+                    summary.contact_pairs,
+                    summary.force_balance_error,
+                    summary.wall_seconds,
+                    summary.outputs.pvd.display()
+                );
+            }
+            Ok(())
+        }
     }
+}
+
+fn stop_flag() -> Arc<AtomicBool> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let f = flag.clone();
+    // Ctrl-C / SIGTERM: finish the current frame, close the .pvd, exit.
+    let _ = ctrlc::set_handler(move || f.store(true, Ordering::Relaxed));
+    flag
 }
 
 fn to_json<T: serde::Serialize>(v: &T) -> String {

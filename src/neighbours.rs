@@ -153,14 +153,20 @@ impl BondList {
 
 /// All pairs `(i, j)`, `i ≠ j`, with `|x_j − x_i| ≤ radius`, partners sorted by index.
 pub fn build_bonds(points: &[Vec3], radius: f64) -> BondList {
+    build_bonds_from(points, points.len(), radius)
+}
+
+/// Bonds of the first `queries` points to any point within `radius` (the points after them
+/// are partners only: mirror images across symmetry planes).
+pub fn build_bonds_from(points: &[Vec3], queries: usize, radius: f64) -> BondList {
     let grid = CellGrid::new(points, radius);
     let r2 = radius * radius;
     const BLOCK: usize = 512;
-    let blocks: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..points.len())
+    let blocks: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..queries)
         .into_par_iter()
         .step_by(BLOCK)
         .map(|start| {
-            let end = (start + BLOCK).min(points.len());
+            let end = (start + BLOCK).min(queries);
             let mut counts = Vec::with_capacity(end - start);
             let mut partner = Vec::new();
             let mut length = Vec::new();
@@ -187,7 +193,7 @@ pub fn build_bonds(points: &[Vec3], radius: f64) -> BondList {
         })
         .collect();
     let total: usize = blocks.iter().map(|b| b.1.len()).sum();
-    let mut offsets = Vec::with_capacity(points.len() + 1);
+    let mut offsets = Vec::with_capacity(queries + 1);
     offsets.push(0);
     let mut partner = Vec::with_capacity(total);
     let mut length = Vec::with_capacity(total);

@@ -39,10 +39,12 @@ impl SurfaceDetection {
 }
 
 /// `−W'(r)/r` for the modified Gaussian: the factor that turns `r_vec r_vecᵀ` into the
-/// kernel-gradient outer product. Zero beyond `3h`.
+/// kernel-gradient outer product. Zero beyond `3h`. `W` vanishes at `3h` but `W'` does not, and
+/// lattice neighbours lie exactly there: the cutoff is inclusive up to round-off, so that the
+/// result does not depend on the last bit of a coordinate.
 #[inline]
 fn kernel_factor(r: f64, h: f64) -> f64 {
-    if r > 3.0 * h {
+    if r > 3.0 * h * (1.0 + 1e-9) {
         return 0.0;
     }
     let c0 = (-9.0f64).exp();
@@ -52,14 +54,16 @@ fn kernel_factor(r: f64, h: f64) -> f64 {
 }
 
 /// Detects surface particles. `neighbours` must contain every pair within `3h`
-/// (a bond family with `δ + Δ/2 ≥ 3h` does).
+/// (a bond family with `δ + Δ/2 ≥ 3h` does). `position` and `volume` may extend past the
+/// particles that own bonds (mirror images across symmetry planes): only the first
+/// `neighbours.particles()` are classified.
 pub fn detect_surface(
     position: &[Vec3],
     volume: &[f64],
     neighbours: &BondList,
     h: f64,
 ) -> SurfaceDetection {
-    let results: Vec<(f64, Vec3)> = (0..position.len())
+    let results: Vec<(f64, Vec3)> = (0..neighbours.particles())
         .into_par_iter()
         .map(|i| {
             let mut l = Matrix3::<f64>::zeros();

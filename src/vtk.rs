@@ -138,13 +138,18 @@ pub fn write_vtu(
 /// A `.pvd` collection: one entry per time step.
 #[derive(Clone, Debug, Default)]
 pub struct PvdCollection {
-    entries: Vec<(f64, String)>,
+    entries: Vec<(f64, String, u32)>,
 }
 
 impl PvdCollection {
-    /// Adds a file (relative to the `.pvd`) at time `t`.
+    /// Adds a file (relative to the `.pvd`) at time `t`, as part 0.
     pub fn push(&mut self, t: f64, file: impl Into<String>) {
-        self.entries.push((t, file.into()));
+        self.entries.push((t, file.into(), 0));
+    }
+
+    /// Adds a file as part `part` of time `t` (ParaView shows the parts as one multiblock).
+    pub fn push_part(&mut self, t: f64, file: impl Into<String>, part: u32) {
+        self.entries.push((t, file.into(), part));
     }
 
     /// Number of entries.
@@ -162,9 +167,9 @@ impl PvdCollection {
         let mut s = String::from(
             "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
         );
-        for (t, f) in &self.entries {
+        for (t, f, part) in &self.entries {
             s.push_str(&format!(
-                "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
+                "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"{part}\" file=\"{}\"/>\n",
                 xml_escape(f)
             ));
         }

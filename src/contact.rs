@@ -1,0 +1,634 @@
+//! Point-to-surface contact with a Hertz penalty (paper Secs. 2.2.2-2.2.4, METHOD.md §5).
+//!
+//! Split like a rigid-body engine's contact pipeline:
+//!
+//! * **broad phase** ([`VerletList`]): for each slave surface particle, the master segments it
+//!   may touch. A segment is a candidate when one of its corner nodes lies within the cutoff plus
+//!   a skin of 0.3Δ (Eq. 17: a segment's contact neighbours are the union of its corners'
+//!   lists; here the union is inverted, slave → segments). Segments much larger than the slave
+//!   spacing (a rigid plane of a few big quads) are found by their bounding box inflated by the
+//!   cutoff instead, because their corners are far from their slaves. The list is rebuilt only
+//!   when the two largest displacements since the last rebuild sum to more than the skin (the
+//!   paper's five steps).
+//! * **narrow phase** ([`project`]): the segment and the slave are projected on the plane of
+//!   Eq. 18, the bilinear map of Eqs. 19-20 is inverted for `(r, t)` by Newton's method, and the
+//!   slave is inside when `|r|, |t| ≤ 1` (a small tolerance keeps particles on shared edges; each
+//!   slave takes the one inside segment nearest to it). The gap is
+//!   `g = (x_s − x_c(r,t)) · n_m` (Eq. 21); a slave is in contact when `g < 0` and `−g` is within
+//!   the window 0.5Δ. A slave behind a segment by more than the window is a missed contact.
+//! * **force** ([`ContactLaw`]): `F = K δ^{3/2}` along `n_m` on the slave with
+//!   `K = 4/(3(m_s + m_m)) √R`, `m = (1 − ν²)/E`, `m = 0` for a rigid body, `R = Δ/2` by
+//!   default (Eqs. 22-24); the reaction goes to the master's corner nodes with the weights
+//!   `N_i(r,t)`, or to the rigid body.
+
+use rayon::prelude::*;
+
+use crate::body::{Body, PdBody, RigidBody};
+use crate::discretize::Vec3;
+use crate::neighbours::CellGrid;
+use crate::scene::PenaltyLaw;
+use crate::segments::MasterSegment;
+
+/// Skin of the Verlet list, in slave spacings.
+pub const SKIN: f64 = 0.3;
+/// The contact window, in slave spacings (the paper's 0.5Δ).
+pub const WINDOW: f64 = 0.5;
+/// Tolerance on `|r|, |t| ≤ 1`.
+pub const INSIDE_TOLERANCE: f64 = 1e-6;
+
+/// The penalty law of a pair.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactLaw {
+    pub law: PenaltyLaw,
+    /// `K` of Eq. 23 (N/m^1.5 for Hertz).
+    pub stiffness: f64,
+    /// Penetration window (m).
+    pub window: f64,
+}
+
+impl ContactLaw {
+    /// Force magnitude at penetration `d ≥ 0`.
+    #[inline]
+    pub fn force(&self, d: f64) -> f64 {
+        match self.law {
+            PenaltyLaw::Hertz => self.stiffness * d * d.sqrt(),
+            PenaltyLaw::Linear => self.stiffness * self.window.sqrt() * d,
+        }
+    }
+
+    /// Tangent stiffness `dF/dδ` at the edge of the window: the largest the contact can
+    /// present, used for ADR's fictitious density and the explicit stable step.
+    pub fn max_tangent(&self) -> f64 {
+        match self.law {
+            PenaltyLaw::Hertz => 1.5 * self.stiffness * self.window.sqrt(),
+            PenaltyLaw::Linear => self.stiffness * self.window.sqrt(),
+        }
+    }
+}
+
+/// `K = 4/(3(m_i + m_j)) √R` (Eq. 23), `m` from Eq. 24; `f64::INFINITY` when both are rigid.
+pub fn hertz_stiffness(m_slave: f64, m_master: f64, radius: f64) -> f64 {
+    4.0 / (3.0 * (m_slave + m_master)) * radius.sqrt()
+}
+
+/// Where a slave touches a segment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Projection {
+    /// Shape-function weights of the segment's four corners at `(r, t)`.
+    pub weights: [f64; 4],
+    /// Outward unit normal of the segment's projection plane (Eq. 18).
+    pub normal: Vec3,
+    /// Gap `g` (Eq. 21): negative when the slave is behind the segment.
+    pub gap: f64,
+}
+
+/// Projects a slave point on a (deformed) segment with corners `x` (`x[2] == x[3]` for a
+/// triangle). `None` when the projection falls outside the segment.
+pub fn project(slave: Vec3, x: [Vec3; 4], triangle: bool) -> Option<Projection> {
+    // Eq. 18: e3 from the diagonals; (x2 − x0) × (x3 − x1) points out for outward winding.
+    let e3 = (x[2] - x[0]).cross(&(x[3] - x[1]));
+    let norm = e3.norm();
+    if !(norm > 0.0) {
+        return None;
+    }
+    let e3 = e3 / norm;
+    if triangle {
+        // Barycentric coordinates in the triangle's plane.
+        let (a, b, c) = (x[0], x[1], x[2]);
+        let n = (b - a).cross(&(c - a));
+        let area2 = n.norm_squared();
+        if !(area2 > 0.0) {
+            return None;
+        }
+        let p = slave - e3 * (slave - a).dot(&e3);
+        let l1 = (c - b).cross(&(p - b)).dot(&n) / area2;
+        let l2 = (a - c).cross(&(p - c)).dot(&n) / area2;
+        let l3 = 1.0 - l1 - l2;
+        let tol = -INSIDE_TOLERANCE;
+        if l1 < tol || l2 < tol || l3 < tol {
+            return None;
+        }
+        let xc = a * l1 + b * l2 + c * l3;
+        return Some(Projection {
+            weights: [l1, l2, l3, 0.0],
+            normal: e3,
+            gap: (slave - xc).dot(&e3),
+        });
+    }
+    let r21 = x[1] - x[0];
+    let e1 = r21 - e3 * r21.dot(&e3);
+    let e1n = e1.norm();
+    if !(e1n > 0.0) {
+        return None;
+    }
+    let e1 = e1 / e1n;
+    let e2 = e3.cross(&e1);
+    let origin = (x[0] + x[1] + x[2] + x[3]) * 0.25;
+    let to2 = |p: Vec3| {
+        let d = p - origin;
+        [d.dot(&e1), d.dot(&e2)]
+    };
+    let p = [to2(x[0]), to2(x[1]), to2(x[2]), to2(x[3])];
+    let q = to2(slave);
+    // Eqs. 19-20: N_i = ¼(1 + r_i r)(1 + t_i t), corners at (−1,−1), (1,−1), (1,1), (−1,1).
+    const RI: [f64; 4] = [-1.0, 1.0, 1.0, -1.0];
+    const TI: [f64; 4] = [-1.0, -1.0, 1.0, 1.0];
+    let (mut r, mut t) = (0.0f64, 0.0f64);
+    let scale = (p[2][0] - p[0][0]).abs()
+        + (p[2][1] - p[0][1]).abs()
+        + (p[3][0] - p[1][0]).abs()
+        + (p[3][1] - p[1][1]).abs();
+    let mut converged = false;
+    for _ in 0..25 {
+        let mut f = [-q[0], -q[1]];
+        let mut j = [[0.0; 2]; 2];
+        for k in 0..4 {
+            let n = 0.25 * (1.0 + RI[k] * r) * (1.0 + TI[k] * t);
+            let dr = 0.25 * RI[k] * (1.0 + TI[k] * t);
+            let dt = 0.25 * TI[k] * (1.0 + RI[k] * r);
+            for a in 0..2 {
+                f[a] += n * p[k][a];
+                j[a][0] += dr * p[k][a];
+                j[a][1] += dt * p[k][a];
+            }
+        }
+        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+        if !(det.abs() > 1e-300) {
+            return None;
+        }
+        let dr = (f[0] * j[1][1] - f[1] * j[0][1]) / det;
+        let dt = (j[0][0] * f[1] - j[1][0] * f[0]) / det;
+        r -= dr;
+        t -= dt;
+        if !(r.is_finite() && t.is_finite()) || r.abs() > 10.0 || t.abs() > 10.0 {
+            return None;
+        }
+        if (f[0].abs() + f[1].abs()) <= 1e-13 * scale && dr.abs() + dt.abs() < 1e-10 {
+            converged = true;
+            break;
+        }
+        if dr.abs() + dt.abs() < 1e-13 {
+            converged = true;
+            break;
+        }
+    }
+    if !converged {
+        return None;
+    }
+    let lim = 1.0 + INSIDE_TOLERANCE;
+    if r.abs() > lim || t.abs() > lim {
+        return None;
+    }
+    let mut weights = [0.0; 4];
+    let mut xc = Vec3::zeros();
+    for k in 0..4 {
+        weights[k] = 0.25 * (1.0 + RI[k] * r) * (1.0 + TI[k] * t);
+        xc += x[k] * weights[k];
+    }
+    Some(Projection {
+        weights,
+        normal: e3,
+        gap: (slave - xc).dot(&e3),
+    })
+}
+
+/// A read-only view of a master surface: node positions and segments.
+#[derive(Clone, Copy)]
+pub enum MasterView<'a> {
+    Pd(&'a PdBody),
+    Rigid(&'a RigidBody),
+}
+
+impl<'a> MasterView<'a> {
+    /// A view of a body.
+    pub fn of(body: &'a Body) -> MasterView<'a> {
+        match body {
+            Body::Deformable(b) => MasterView::Pd(b),
+            Body::Rigid(b) => MasterView::Rigid(b),
+        }
+    }
+
+    /// Current position of master node `i`.
+    #[inline]
+    pub fn node(&self, i: u32) -> Vec3 {
+        match self {
+            MasterView::Pd(b) => b.position(i as usize),
+            MasterView::Rigid(b) => b.position(i as usize),
+        }
+    }
+
+    /// The master segments.
+    pub fn segments(&self) -> &'a [MasterSegment] {
+        match self {
+            MasterView::Pd(b) => b.segments(),
+            MasterView::Rigid(b) => &b.faces,
+        }
+    }
+
+    /// Current corners of segment `s`.
+    #[inline]
+    pub fn corners(&self, s: usize) -> [Vec3; 4] {
+        self.segments()[s].nodes.map(|n| self.node(n))
+    }
+}
+
+/// One slave in contact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactPoint {
+    /// Slave particle.
+    pub slave: u32,
+    /// Master segment.
+    pub segment: u32,
+    pub projection: Projection,
+    /// Penetration `δ_p = −g ≥ 0`.
+    pub penetration: f64,
+    /// Force on the slave (N).
+    pub force: Vec3,
+}
+
+/// The Verlet list of one pass: candidate segments per slave.
+#[derive(Clone, Debug, Default)]
+pub struct VerletList {
+    /// `offsets[k]..offsets[k+1]` are slave `k`'s candidates in `candidates`.
+    offsets: Vec<u32>,
+    candidates: Vec<u32>,
+    /// Positions of the slaves and master nodes at the last rebuild.
+    slave_ref: Vec<Vec3>,
+    master_ref: Vec<Vec3>,
+    /// Rebuilds so far.
+    pub rebuilds: usize,
+    built: bool,
+}
+
+/// Slave particles of one body checked against the master segments of another.
+#[derive(Clone, Debug)]
+pub struct ContactPass {
+    pub slave: usize,
+    pub master: usize,
+    pub law: ContactLaw,
+    /// 1, or ½ for each pass of a two-pass pair (the two passes share the pair's stiffness).
+    pub weight: f64,
+    /// Slave spacing Δ.
+    pub spacing: f64,
+    /// Radius around a slave in which a segment's corner makes it a candidate (without skin).
+    pub cutoff: f64,
+    /// Skin (0.3 Δ).
+    pub skin: f64,
+    /// The slave body's surface particles.
+    pub slaves: Vec<u32>,
+    /// Master nodes used by segments (the nodes whose motion the rebuild rule tracks).
+    master_nodes: Vec<u32>,
+    /// Master node → segments (CSR over node index).
+    node_seg_offsets: Vec<u32>,
+    node_segs: Vec<u32>,
+    /// Segments found by bounding box (much larger than the slave spacing).
+    big_segments: Vec<u32>,
+    pub verlet: VerletList,
+    /// Contacts found in the last evaluation.
+    pub contacts: Vec<ContactPoint>,
+    /// Slaves found behind a segment by more than the window in the last evaluation.
+    pub missed: usize,
+}
+
+impl ContactPass {
+    /// Sets up a pass; `bodies[slave]` must be deformable.
+    pub fn new(
+        bodies: &[Body],
+        slave: usize,
+        master: usize,
+        law: ContactLaw,
+        weight: f64,
+    ) -> ContactPass {
+        let sb = bodies[slave]
+            .as_pd()
+            .expect("slave bodies are deformable (checked by the scene)");
+        let spacing = sb.spacing();
+        let slaves: Vec<u32> = (0..sb.len() as u32)
+            .filter(|&i| sb.case.surface.is_surface[i as usize])
+            .collect();
+        let view = MasterView::of(&bodies[master]);
+        let segs = view.segments();
+        let node_count = match view {
+            MasterView::Pd(b) => b.len(),
+            MasterView::Rigid(b) => b.vertices.len(),
+        };
+        // Segments whose half-diagonal exceeds 1.5 Δ go to the bounding-box phase.
+        let half_diag = |s: &MasterSegment| {
+            let c = s.nodes.map(|n| view.node(n));
+            0.5 * (c[2] - c[0]).norm().max((c[3] - c[1]).norm())
+        };
+        let mut big_segments = Vec::new();
+        let mut max_small = 0.0f64;
+        let mut count = vec![0u32; node_count + 1];
+        for (k, s) in segs.iter().enumerate() {
+            let h = half_diag(s);
+            if h > 1.5 * spacing {
+                big_segments.push(k as u32);
+            } else {
+                max_small = max_small.max(h);
+                for n in distinct(&s.nodes) {
+                    count[n as usize + 1] += 1;
+                }
+            }
+        }
+        for i in 0..node_count {
+            count[i + 1] += count[i];
+        }
+        let mut fill = count.clone();
+        let mut node_segs = vec![0u32; count[node_count] as usize];
+        for (k, s) in segs.iter().enumerate() {
+            if big_segments.binary_search(&(k as u32)).is_ok() {
+                continue;
+            }
+            for n in distinct(&s.nodes) {
+                node_segs[fill[n as usize] as usize] = k as u32;
+                fill[n as usize] += 1;
+            }
+        }
+        let mut master_nodes: Vec<u32> = segs.iter().flat_map(|s| s.nodes).collect();
+        master_nodes.sort_unstable();
+        master_nodes.dedup();
+        let window = law.window;
+        // A slave inside a segment's projection within the window is at most this far from the
+        // segment's nearest corner.
+        let cutoff = (max_small * max_small + window * window)
+            .sqrt()
+            .max(spacing);
+        ContactPass {
+            slave,
+            master,
+            law,
+            weight,
+            spacing,
+            cutoff,
+            skin: SKIN * spacing,
+            slaves,
+            master_nodes,
+            node_seg_offsets: count,
+            node_segs,
+            big_segments,
+            verlet: VerletList::default(),
+            contacts: Vec::new(),
+            missed: 0,
+        }
+    }
+
+    /// Whether the two largest displacements since the last rebuild exceed the skin.
+    fn needs_rebuild(&self, sb: &PdBody, view: MasterView<'_>) -> bool {
+        if !self.verlet.built {
+            return true;
+        }
+        let mut top = [0.0f64; 2];
+        let mut push = |d: f64| {
+            if d > top[0] {
+                top[1] = top[0];
+                top[0] = d;
+            } else if d > top[1] {
+                top[1] = d;
+            }
+        };
+        for (k, &s) in self.slaves.iter().enumerate() {
+            push((sb.position(s as usize) - self.verlet.slave_ref[k]).norm());
+        }
+        for (k, &n) in self.master_nodes.iter().enumerate() {
+            push((view.node(n) - self.verlet.master_ref[k]).norm());
+        }
+        top[0] + top[1] > self.skin
+    }
+
+    /// Rebuilds the candidate lists from current positions.
+    fn rebuild(&mut self, sb: &PdBody, view: MasterView<'_>) {
+        let radius = self.cutoff + self.skin;
+        let master_pos: Vec<Vec3> = self.master_nodes.iter().map(|&n| view.node(n)).collect();
+        let grid = CellGrid::new(&master_pos, radius);
+        let segs = view.segments();
+        let big: Vec<(u32, Vec3, Vec3)> = self
+            .big_segments
+            .iter()
+            .map(|&k| {
+                let c = view.corners(k as usize);
+                let lo = c.iter().fold(Vec3::repeat(f64::INFINITY), |a, p| a.inf(p));
+                let hi = c
+                    .iter()
+                    .fold(Vec3::repeat(f64::NEG_INFINITY), |a, p| a.sup(p));
+                (k, lo - Vec3::repeat(radius), hi + Vec3::repeat(radius))
+            })
+            .collect();
+        let lists: Vec<Vec<u32>> = self
+            .slaves
+            .par_iter()
+            .map(|&s| {
+                let p = sb.position(s as usize);
+                let mut out = Vec::new();
+                grid.for_each_candidate(&p, radius, |m| {
+                    if (master_pos[m as usize] - p).norm_squared() <= radius * radius {
+                        let node = self.master_nodes[m as usize] as usize;
+                        let (a, b) = (
+                            self.node_seg_offsets[node] as usize,
+                            self.node_seg_offsets[node + 1] as usize,
+                        );
+                        out.extend_from_slice(&self.node_segs[a..b]);
+                    }
+                });
+                for (k, lo, hi) in &big {
+                    if (0..3).all(|d| p[d] >= lo[d] && p[d] <= hi[d]) {
+                        out.push(*k);
+                    }
+                }
+                out.sort_unstable();
+                out.dedup();
+                out
+            })
+            .collect();
+        let _ = segs;
+        let v = &mut self.verlet;
+        v.offsets.clear();
+        v.candidates.clear();
+        v.offsets.push(0);
+        for l in lists {
+            v.candidates.extend_from_slice(&l);
+            v.offsets.push(v.candidates.len() as u32);
+        }
+        v.slave_ref = self
+            .slaves
+            .iter()
+            .map(|&s| sb.position(s as usize))
+            .collect();
+        v.master_ref = master_pos;
+        v.rebuilds += 1;
+        v.built = true;
+    }
+
+    /// Finds the contacts of this pass at the current positions (broad phase as needed, then
+    /// narrow phase). Forces are computed, not applied.
+    pub fn detect(&mut self, bodies: &[Body]) {
+        let sb = bodies[self.slave].as_pd().expect("slave is deformable");
+        let view = MasterView::of(&bodies[self.master]);
+        if self.needs_rebuild(sb, view) {
+            self.rebuild(sb, view);
+        }
+        let segs = view.segments();
+        let window = self.law.window;
+        let results: Vec<(Option<ContactPoint>, bool)> = (0..self.slaves.len())
+            .into_par_iter()
+            .map(|k| {
+                let s = self.slaves[k];
+                let p = sb.position(s as usize);
+                let (a, b) = (
+                    self.verlet.offsets[k] as usize,
+                    self.verlet.offsets[k + 1] as usize,
+                );
+                let mut best: Option<(u32, Projection)> = None;
+                for &seg in &self.verlet.candidates[a..b] {
+                    let x = view.corners(seg as usize);
+                    if let Some(pr) = project(p, x, segs[seg as usize].is_triangle()) {
+                        if best
+                            .as_ref()
+                            .is_none_or(|(_, b)| pr.gap.abs() < b.gap.abs())
+                        {
+                            best = Some((seg, pr));
+                        }
+                    }
+                }
+                match best {
+                    Some((seg, pr)) if pr.gap < 0.0 && -pr.gap <= window => {
+                        let d = -pr.gap;
+                        // A slave on a symmetry plane is only part of its particle.
+                        let f = self.weight * sb.case.ghosts.share(s as usize) * self.law.force(d);
+                        (
+                            Some(ContactPoint {
+                                slave: s,
+                                segment: seg,
+                                projection: pr,
+                                penetration: d,
+                                force: pr.normal * f,
+                            }),
+                            false,
+                        )
+                    }
+                    Some((_, pr)) if pr.gap < -window => (None, true),
+                    _ => (None, false),
+                }
+            })
+            .collect();
+        self.missed = results.iter().filter(|r| r.1).count();
+        self.contacts = results.into_iter().filter_map(|r| r.0).collect();
+    }
+
+    /// Adds this pass's forces and contact stiffness to the bodies.
+    pub fn apply(&self, bodies: &mut [Body]) {
+        let tangent = self.weight * self.law.max_tangent();
+        {
+            let sb = bodies[self.slave].as_pd_mut().expect("slave is deformable");
+            // Every slave with a candidate segment may touch within a step: give it the
+            // contact's largest tangent stiffness (ADR density, explicit step).
+            for (k, &s) in self.slaves.iter().enumerate() {
+                if self.verlet.offsets[k + 1] > self.verlet.offsets[k] {
+                    sb.contact_stiffness[s as usize] += tangent;
+                }
+            }
+            for c in &self.contacts {
+                sb.force[c.slave as usize] += c.force;
+                sb.contact_force[c.slave as usize] += c.force;
+            }
+        }
+        match &mut bodies[self.master] {
+            Body::Deformable(mb) => {
+                for c in &self.contacts {
+                    let nodes = mb.case.segments.segments[c.segment as usize].nodes;
+                    for (k, &n) in nodes.iter().enumerate() {
+                        let w = c.projection.weights[k];
+                        if w != 0.0 {
+                            mb.force[n as usize] -= c.force * w;
+                            mb.contact_force[n as usize] -= c.force * w;
+                            mb.contact_stiffness[n as usize] += tangent * w.abs();
+                        }
+                    }
+                }
+            }
+            Body::Rigid(rb) => {
+                for c in &self.contacts {
+                    rb.contact_force -= c.force;
+                    rb.contact_stiffness += tangent * c.projection.normal.dot(&rb.axis).powi(2);
+                }
+            }
+        }
+    }
+}
+
+fn distinct(nodes: &[u32; 4]) -> impl Iterator<Item = u32> + '_ {
+    nodes
+        .iter()
+        .enumerate()
+        .filter(|(k, n)| !nodes[..*k].contains(n))
+        .map(|(_, &n)| n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(z: f64) -> [Vec3; 4] {
+        [
+            Vec3::new(0.0, 0.0, z),
+            Vec3::new(1.0, 0.0, z),
+            Vec3::new(1.0, 1.0, z),
+            Vec3::new(0.0, 1.0, z),
+        ]
+    }
+
+    #[test]
+    fn projection_on_a_flat_square() {
+        let p = project(Vec3::new(0.25, 0.75, -0.1), square(0.0), false).expect("inside");
+        assert!((p.gap + 0.1).abs() < 1e-12);
+        assert!((p.normal - Vec3::z()).norm() < 1e-12);
+        // Bilinear weights at (r, t) = (−0.5, 0.5).
+        let w = [0.1875, 0.0625, 0.1875, 0.5625];
+        for k in 0..4 {
+            assert!((p.weights[k] - w[k]).abs() < 1e-12, "{:?}", p.weights);
+        }
+        assert!(project(Vec3::new(1.2, 0.5, 0.0), square(0.0), false).is_none());
+    }
+
+    #[test]
+    fn projection_on_a_warped_quad_recovers_the_point() {
+        let mut x = square(0.0);
+        x[2].z = 0.3;
+        x[1].x = 1.2;
+        // A point of the bilinear surface at (r, t) = (0.3, −0.2), lifted along the normal.
+        let (r, t) = (0.3, -0.2);
+        let ri = [-1.0, 1.0, 1.0, -1.0];
+        let ti = [-1.0, -1.0, 1.0, 1.0];
+        let on: Vec3 = (0..4)
+            .map(|k| x[k] * (0.25 * (1.0 + ri[k] * r) * (1.0 + ti[k] * t)))
+            .sum();
+        let e3 = (x[2] - x[0]).cross(&(x[3] - x[1])).normalize();
+        let p = project(on - e3 * 0.05, x, false).expect("inside");
+        assert!((p.gap + 0.05).abs() < 1e-9, "{}", p.gap);
+        let back: Vec3 = (0..4).map(|k| x[k] * p.weights[k]).sum();
+        assert!((back - on).norm() < 1e-9);
+    }
+
+    #[test]
+    fn triangle_barycentric() {
+        let x = [Vec3::zeros(), Vec3::x(), Vec3::y(), Vec3::y()];
+        let p = project(Vec3::new(0.25, 0.25, 0.2), x, true).expect("inside");
+        assert!((p.gap - 0.2).abs() < 1e-12);
+        assert!((p.weights.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+        assert!(project(Vec3::new(0.8, 0.8, 0.0), x, true).is_none());
+    }
+
+    #[test]
+    fn hertz_law_and_stiffness() {
+        let m = (1.0 - 0.25f64 * 0.25) / 1e9;
+        let k = hertz_stiffness(m, 0.0, 0.04);
+        assert!((k - 4.0 / (3.0 * m) * 0.2).abs() < 1e-6 * k);
+        let law = ContactLaw {
+            law: PenaltyLaw::Hertz,
+            stiffness: k,
+            window: 0.04,
+        };
+        assert!((law.force(0.01) - k * 1e-3).abs() < 1e-9 * k);
+        assert!((law.max_tangent() - 1.5 * k * 0.2).abs() < 1e-9 * k);
+    }
+}

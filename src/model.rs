@@ -1,0 +1,299 @@
+//! A scene turned into bodies and contact passes, and the force evaluation the solvers call.
+//!
+//! `compute_forces` is one evaluation of Eq. 28: bond forces of every deformable body (Eq. 26
+//! with the surface and volume corrections), applied loads, and contact forces.
+
+use rayon::prelude::*;
+
+use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
+use crate::contact::{hertz_stiffness, ContactLaw, ContactPass, WINDOW};
+use crate::discretize::{Vec3, NOT_A_PARTICLE};
+use crate::error::Result;
+use crate::scene::{BodyKind, Kinematics, Scene};
+
+/// Particles per parallel work item of the bond loop.
+const CHUNK: usize = 256;
+
+/// Bodies and contact passes of a scene.
+#[derive(Clone, Debug)]
+pub struct Model {
+    pub bodies: Vec<Body>,
+    pub passes: Vec<ContactPass>,
+    /// Force evaluations so far.
+    pub evaluations: usize,
+    /// Scratch: current positions of each deformable body.
+    positions: Vec<Vec<Vec3>>,
+}
+
+impl Model {
+    /// Builds bodies, loads, constraints and contact passes from a scene.
+    pub fn from_scene(scene: &Scene) -> Result<Model> {
+        let mut bodies = Vec::with_capacity(scene.bodies.len());
+        for spec in &scene.bodies {
+            bodies.push(build_body(scene, spec)?);
+        }
+        let index = |name: &str| scene.bodies.iter().position(|b| b.name == name);
+
+        for load in &scene.loads {
+            let k = index(&load.body).ok_or_else(|| scene.error_at(&load.body, "no such body"))?;
+            let force = Vec3::from(load.force);
+            match &mut bodies[k] {
+                Body::Rigid(rb) => {
+                    if load.set.is_some() {
+                        return Err(scene.error_at(
+                            "set",
+                            &format!("load on rigid body \"{}\": a rigid body takes its load as a whole (drop `set`)", load.body),
+                        ));
+                    }
+                    rb.load += force;
+                }
+                Body::Deformable(pd) => {
+                    let particles = match &load.set {
+                        Some(set) => set_particles(scene, pd, set)?,
+                        None => (0..pd.len() as u32).collect(),
+                    };
+                    let total: f64 = particles
+                        .iter()
+                        .map(|&p| pd.case.particles.volume[p as usize])
+                        .sum();
+                    for &p in &particles {
+                        pd.load[p as usize] +=
+                            force * (pd.case.particles.volume[p as usize] / total);
+                    }
+                }
+            }
+        }
+        for c in &scene.constraints {
+            let k = index(&c.body).ok_or_else(|| scene.error_at(&c.body, "no such body"))?;
+            let Some(pd) = bodies[k].as_pd_mut() else {
+                continue;
+            };
+            let mut mask = 0;
+            for f in &c.fix {
+                mask |= match f.as_str() {
+                    "x" => FIX_X,
+                    "y" => FIX_Y,
+                    _ => FIX_Z,
+                };
+            }
+            for p in set_particles(scene, pd, &c.set)? {
+                pd.fixed[p as usize] |= mask;
+            }
+        }
+
+        let mut passes = Vec::new();
+        for c in &scene.contacts {
+            let (Some(s), Some(m)) = (index(&c.slave), index(&c.master)) else {
+                continue;
+            };
+            let add = |s: usize, m: usize, weight: f64, bodies: &[Body]| {
+                let sb = bodies[s].as_pd().expect("slave is deformable");
+                let m_slave = sb.material.compliance();
+                let m_master = match &bodies[m] {
+                    Body::Deformable(b) => b.material.compliance(),
+                    Body::Rigid(b) => b.material.map_or(0.0, |mat| mat.compliance()),
+                };
+                let radius = c.radius.unwrap_or(0.5 * sb.spacing());
+                let law = ContactLaw {
+                    law: c.penalty,
+                    stiffness: hertz_stiffness(m_slave, m_master, radius),
+                    window: WINDOW * sb.spacing(),
+                };
+                ContactPass::new(bodies, s, m, law, weight)
+            };
+            let two = c.two_pass && scene.bodies[m].kind == BodyKind::Deformable;
+            let w = if two { 0.5 } else { 1.0 };
+            passes.push(add(s, m, w, &bodies));
+            if two {
+                passes.push(add(m, s, w, &bodies));
+            }
+        }
+        let positions = bodies
+            .iter()
+            .map(|b| {
+                b.as_pd()
+                    .map_or(Vec::new(), |pd| vec![Vec3::zeros(); pd.len()])
+            })
+            .collect();
+        Ok(Model {
+            bodies,
+            passes,
+            evaluations: 0,
+            positions,
+        })
+    }
+
+    /// Total particles.
+    pub fn particles(&self) -> usize {
+        self.bodies
+            .iter()
+            .filter_map(Body::as_pd)
+            .map(PdBody::len)
+            .sum()
+    }
+
+    /// Total directed bonds.
+    pub fn bonds(&self) -> usize {
+        self.bodies
+            .iter()
+            .filter_map(Body::as_pd)
+            .map(|b| b.case.bonds.len())
+            .sum()
+    }
+
+    /// Evaluates all forces at the current displacements.
+    pub fn compute_forces(&mut self) {
+        self.evaluations += 1;
+        for (body, pos) in self.bodies.iter_mut().zip(&mut self.positions) {
+            match body {
+                Body::Deformable(pd) => internal_forces(pd, pos),
+                Body::Rigid(rb) => {
+                    rb.contact_force = Vec3::zeros();
+                    rb.contact_stiffness = 0.0;
+                }
+            }
+        }
+        for k in 0..self.passes.len() {
+            self.passes[k].detect(&self.bodies);
+        }
+        for pass in &self.passes {
+            pass.apply(&mut self.bodies);
+        }
+    }
+
+    /// Sum of the applied loads on all bodies.
+    pub fn applied_load(&self) -> Vec3 {
+        self.bodies
+            .iter()
+            .map(|b| match b {
+                Body::Deformable(pd) => pd.load.iter().sum(),
+                Body::Rigid(rb) => rb.load,
+            })
+            .sum()
+    }
+
+    /// Contacts found in the last evaluation.
+    pub fn contact_count(&self) -> usize {
+        self.passes.iter().map(|p| p.contacts.len()).sum()
+    }
+
+    /// Missed contacts in the last evaluation.
+    pub fn missed_contacts(&self) -> usize {
+        self.passes.iter().map(|p| p.missed).sum()
+    }
+
+    /// Verlet rebuilds so far.
+    pub fn verlet_rebuilds(&self) -> usize {
+        self.passes.iter().map(|p| p.verlet.rebuilds).sum()
+    }
+
+    /// Contact energy `Σ w K δ^{5/2} / (5/2)` (Hertz) or `½ w K' δ²` (linear).
+    pub fn contact_energy(&self) -> f64 {
+        self.passes
+            .iter()
+            .map(|p| {
+                p.contacts
+                    .iter()
+                    .map(|c| {
+                        let d = c.penetration;
+                        // ∫ F dδ for F = force(δ): force(d)·d·(2/5) for Hertz, ·(1/2) linear.
+                        let f = p.weight * p.law.force(d);
+                        match p.law.law {
+                            crate::scene::PenaltyLaw::Hertz => 0.4 * f * d,
+                            crate::scene::PenaltyLaw::Linear => 0.5 * f * d,
+                        }
+                    })
+                    .sum::<f64>()
+            })
+            .sum()
+    }
+}
+
+/// Bond forces plus applied loads into `pd.force`; resets contact accumulators. `pos` is
+/// scratch space for the current positions (real particles, then mirror images).
+pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
+    let x = &pd.case.particles.position;
+    let n = pd.len();
+    let ghosts = &pd.case.ghosts;
+    pos.resize(n + ghosts.source.len(), Vec3::zeros());
+    let (real, images) = pos.split_at_mut(n);
+    real.par_iter_mut()
+        .zip(x.par_iter().zip(pd.u.par_iter()))
+        .for_each(|(p, (x, u))| *p = x + u);
+    for (g, img) in images.iter_mut().enumerate() {
+        *img = ghosts.reflect(real[ghosts.source[g] as usize], ghosts.mask[g]);
+    }
+    let pos: &[Vec3] = pos;
+    let bonds = &pd.case.bonds;
+    let w = &pd.bond_weight;
+    let load = &pd.load;
+    let reference = &pd.reference;
+    let small = pd.kinematics == Kinematics::Small;
+    pd.force
+        .par_chunks_mut(CHUNK)
+        .enumerate()
+        .for_each(|(c, out)| {
+            for (k, f) in out.iter_mut().enumerate() {
+                let i = c * CHUNK + k;
+                let yi = pos[i];
+                let mut acc = Vec3::zeros();
+                if small {
+                    // Eq. 26 linearised: extension along the reference bond.
+                    let xi0 = reference[i];
+                    for b in bonds.range(i) {
+                        let j = bonds.partner[b] as usize;
+                        let xi = reference[j] - xi0;
+                        let inv = 1.0 / bonds.length[b];
+                        let ext = (pos[j] - yi - xi).dot(&xi) * inv;
+                        acc += xi * (w[b] * ext * inv);
+                    }
+                } else {
+                    for b in bonds.range(i) {
+                        let j = bonds.partner[b] as usize;
+                        let y = pos[j] - yi;
+                        let l = y.norm();
+                        acc += y * (w[b] * (l - bonds.length[b]) / l);
+                    }
+                }
+                *f = acc + load[i];
+            }
+        });
+    pd.contact_force.iter_mut().for_each(|f| *f = Vec3::zeros());
+    pd.contact_stiffness.iter_mut().for_each(|k| *k = 0.0);
+}
+
+/// Particles of a named set of a body's mesh (its corner nodes that are particles).
+fn set_particles(scene: &Scene, pd: &PdBody, name: &str) -> Result<Vec<u32>> {
+    let mesh = &pd.case.mesh;
+    let Some(set) = mesh.set(name) else {
+        let known: Vec<&str> = mesh.sets.iter().map(|s| s.name.as_str()).collect();
+        return Err(scene.error_at(
+            &format!("set = \"{name}\""),
+            &format!(
+                "body \"{}\" has no set \"{name}\" (its sets: {})",
+                pd.name,
+                if known.is_empty() {
+                    "none".to_string()
+                } else {
+                    known.join(", ")
+                }
+            ),
+        ));
+    };
+    let particles: Vec<u32> = mesh
+        .set_nodes(set)
+        .into_iter()
+        .map(|n| pd.case.particles.particle_of_node[n as usize])
+        .filter(|&p| p != NOT_A_PARTICLE)
+        .collect();
+    if particles.is_empty() {
+        return Err(scene.error_at(
+            &format!("set = \"{name}\""),
+            &format!(
+                "set \"{name}\" of body \"{}\" holds no particle (no corner node of a 3D element)",
+                pd.name
+            ),
+        ));
+    }
+    Ok(particles)
+}

@@ -1,0 +1,210 @@
+//! `pdcontact run`: a scene from file to frames and a `summary.json`.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::analysis::{contact_patch, fit_elliptic};
+use crate::body::Body;
+use crate::discretize::Vec3;
+use crate::error::{Error, Result};
+use crate::model::Model;
+use crate::output::{FrameWriter, RunMonitor};
+use crate::scene::{Motion, Scene, SolverKind};
+use crate::solver::{solve, RunStats};
+use crate::vtk::write_atomically;
+
+/// Options of a run.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Output folder (default: the scene's `output.folder`).
+    pub output: Option<PathBuf>,
+    /// No progress on stderr.
+    pub quiet: bool,
+    /// Raised by Ctrl-C / SIGTERM: finish the current frame and stop.
+    pub stop: Option<Arc<AtomicBool>>,
+}
+
+/// Output paths of a run.
+#[derive(Clone, Debug, Serialize)]
+pub struct Outputs {
+    pub pvd: PathBuf,
+    pub last_frame: Option<PathBuf>,
+    pub summary: PathBuf,
+}
+
+/// `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunSummary {
+    pub scene: String,
+    pub particles: usize,
+    pub bonds: usize,
+    pub iterations: usize,
+    pub converged: bool,
+    pub residual: f64,
+    pub wall_seconds: f64,
+    pub verlet_rebuilds: usize,
+    pub contact_pairs: usize,
+    pub missed_contacts: usize,
+    /// Force exerted through contact by rigid bodies on deformable bodies (for scenes without
+    /// rigid bodies: on the slave bodies), N.
+    pub total_contact_force: [f64; 3],
+    /// Sum of the applied loads, N.
+    pub applied_load: [f64; 3],
+    /// `|Σ applied + Σ support reactions| / |Σ applied|`: the net out-of-balance force.
+    pub force_balance_error: f64,
+    /// Radius of a least-squares fit of `p0 √(1 − (r/a)²)` to the largest contact patch, m.
+    pub contact_radius: f64,
+    /// Largest contact pressure, Pa (per undeformed area).
+    pub peak_pressure: f64,
+    pub outputs: Outputs,
+    pub solver: RunStats,
+    /// The error that stopped the run, if any.
+    pub error: Option<String>,
+}
+
+/// Reaction and balance figures of the current state.
+pub fn force_balance(model: &Model) -> (Vec3, Vec3, f64) {
+    let applied = model.applied_load();
+    let mut contact = Vec3::zeros();
+    let mut reactions = Vec3::zeros();
+    let mut has_rigid = false;
+    for b in &model.bodies {
+        match b {
+            Body::Rigid(rb) => {
+                has_rigid = true;
+                contact -= rb.contact_force;
+                if rb.motion != Motion::Free {
+                    reactions -= rb.contact_force;
+                } else {
+                    // A free body's resistance off its axis is a support reaction too.
+                    let f = rb.contact_force;
+                    reactions -= f - rb.axis * f.dot(&rb.axis);
+                }
+            }
+            Body::Deformable(pd) => {
+                // Constraint reactions: the force the fixed components do not let move.
+                for (f, &m) in pd.force.iter().zip(&pd.fixed) {
+                    for a in 0..3 {
+                        if m & (1 << a) != 0 {
+                            reactions[a] -= f[a];
+                        }
+                    }
+                }
+            }
+        }
+    }
+    if !has_rigid {
+        for p in &model.passes {
+            contact += p.contacts.iter().map(|c| c.force).sum::<Vec3>();
+        }
+    }
+    let error = if applied.norm() > 0.0 {
+        (applied + reactions).norm() / applied.norm()
+    } else {
+        0.0
+    };
+    (contact, applied, error)
+}
+
+/// Contact radius and peak pressure of the body with the largest contact force.
+fn patch_figures(model: &Model) -> (f64, f64) {
+    let mut best: Option<(f64, usize)> = None;
+    for (k, b) in model.bodies.iter().enumerate() {
+        if let Some(pd) = b.as_pd() {
+            let f: f64 = pd.contact_force.iter().sum::<Vec3>().norm();
+            if f > 0.0 && best.is_none_or(|(g, _)| f > g) {
+                best = Some((f, k));
+            }
+        }
+    }
+    let Some((_, k)) = best else {
+        return (0.0, 0.0);
+    };
+    match contact_patch(model, k, None) {
+        Some(patch) => {
+            let pts: Vec<(f64, f64)> = patch.points.iter().map(|&(_, r, p)| (r, p)).collect();
+            let a = fit_elliptic(&pts).map_or(0.0, |f| f.0);
+            (a, patch.peak)
+        }
+        None => (0.0, 0.0),
+    }
+}
+
+/// Runs a scene; writes frames and `summary.json` into the output folder.
+pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSummary)> {
+    let start = Instant::now();
+    let folder = options
+        .output
+        .clone()
+        .unwrap_or_else(|| scene.resolve(&scene.output.folder));
+    let mut model = Model::from_scene(scene)?;
+    let frames = FrameWriter::new(&folder, scene.output.every)?;
+    let pvd = frames.pvd_path();
+    let stop = options.stop.clone().unwrap_or_default();
+    let mut monitor = RunMonitor::new(
+        Some(frames),
+        options.quiet,
+        scene.solver.kind == SolverKind::Adr,
+        stop,
+    );
+    let result = solve(&mut model, &scene.solver, &mut monitor);
+    let summary_path = folder.join("summary.json");
+    let (stats, error) = match result {
+        Ok(s) => (s, None),
+        Err(e) => (RunStats::default(), Some(e)),
+    };
+    let (contact, applied, balance) = force_balance(&model);
+    let (radius, peak) = patch_figures(&model);
+    let summary = RunSummary {
+        scene: scene.source.clone(),
+        particles: model.particles(),
+        bonds: model.bonds(),
+        iterations: stats.iterations,
+        converged: stats.converged && error.is_none(),
+        residual: stats.residual,
+        wall_seconds: start.elapsed().as_secs_f64(),
+        verlet_rebuilds: model.verlet_rebuilds(),
+        contact_pairs: model.contact_count(),
+        missed_contacts: model.missed_contacts(),
+        total_contact_force: contact.into(),
+        applied_load: applied.into(),
+        force_balance_error: balance,
+        contact_radius: radius,
+        peak_pressure: peak,
+        outputs: Outputs {
+            pvd,
+            last_frame: monitor.frames.as_ref().and_then(FrameWriter::last_frame),
+            summary: summary_path.clone(),
+        },
+        solver: stats,
+        error: error.as_ref().map(ToString::to_string),
+    };
+    write_summary(&summary_path, &summary)?;
+    match error {
+        Some(e) => Err(e),
+        None => {
+            if !summary.converged
+                && scene.solver.kind == SolverKind::Adr
+                && !summary.solver.interrupted
+            {
+                return Err(Error::numerical(format!(
+                    "ADR did not converge in {} iterations (residual {:.3e}, tolerance {:.1e}); raise max_iterations or check the loads and supports",
+                    summary.iterations,
+                    summary.residual,
+                    scene.solver.tolerance.unwrap_or(crate::solver::DEFAULT_TOLERANCE)
+                )));
+            }
+            Ok((model, summary))
+        }
+    }
+}
+
+/// Writes `summary.json` atomically.
+pub fn write_summary(path: &Path, summary: &RunSummary) -> Result<()> {
+    let text = serde_json::to_string_pretty(summary).map_err(|e| Error::output(path, e))?;
+    write_atomically(path, |w| std::io::Write::write_all(w, text.as_bytes()))
+}

@@ -1,0 +1,645 @@
+//! Scene files: bodies, loads, constraints, symmetry planes, contact pairs, solver, output.
+//!
+//! A scene is TOML. Unknown keys, wrong types and missing keys are errors with the file's line
+//! and column. Paths in a scene are relative to the scene file. The README documents every key
+//! with an example per feature ("Scene files").
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::correction::CorrectionMethod;
+use crate::error::{Error, Result};
+
+/// The whole scene file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Solver settings.
+    pub solver: SolverSpec,
+    /// Output settings.
+    #[serde(default)]
+    pub output: OutputSpec,
+    /// Bodies, deformable or rigid.
+    #[serde(rename = "body", default)]
+    pub bodies: Vec<BodySpec>,
+    /// Applied forces.
+    #[serde(rename = "load", default)]
+    pub loads: Vec<LoadSpec>,
+    /// Fixed displacement components.
+    #[serde(rename = "constraint", default)]
+    pub constraints: Vec<ConstraintSpec>,
+    /// Symmetry planes.
+    #[serde(rename = "symmetry", default)]
+    pub symmetries: Vec<SymmetrySpec>,
+    /// Contact pairs.
+    #[serde(rename = "contact", default)]
+    pub contacts: Vec<ContactSpec>,
+    /// Folder that relative paths are resolved against (the scene file's folder).
+    #[serde(skip)]
+    pub base: PathBuf,
+    /// Where the scene came from, for messages.
+    #[serde(skip)]
+    pub source: String,
+    /// The scene's text, to point at lines in later errors.
+    #[serde(skip)]
+    pub text: String,
+}
+
+/// `kind` of `[solver]`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SolverKind {
+    /// Adaptive dynamic relaxation (quasi-static).
+    Adr,
+    /// Explicit dynamics (velocity Verlet).
+    Explicit,
+}
+
+/// `[solver]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    pub kind: SolverKind,
+    /// ADR: out-of-balance force relative to the applied load (default 1e-4).
+    pub tolerance: Option<f64>,
+    /// ADR: iteration cap (default 200000).
+    pub max_iterations: Option<usize>,
+    /// Explicit: time step in seconds (default: `safety` × the stable step).
+    pub dt: Option<f64>,
+    /// Explicit: fraction of the stable time step (default 0.8).
+    pub safety: Option<f64>,
+    /// Explicit: simulated time in seconds.
+    pub end_time: Option<f64>,
+    /// Explicit: stop when the contact force has fallen back to zero after a contact.
+    #[serde(default)]
+    pub stop_after_rebound: bool,
+}
+
+/// `[output]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Output folder, relative to the scene file (default "out").
+    #[serde(default = "default_folder")]
+    pub folder: PathBuf,
+    /// Write a frame every N steps (the last step is always written).
+    #[serde(default = "default_every")]
+    pub every: usize,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        OutputSpec {
+            folder: default_folder(),
+            every: default_every(),
+        }
+    }
+}
+
+fn default_folder() -> PathBuf {
+    PathBuf::from("out")
+}
+fn default_every() -> usize {
+    1000
+}
+
+/// `kind` of a body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum BodyKind {
+    /// A PD body with particles and bonds.
+    #[default]
+    Deformable,
+    /// A rigid surface: no particles, no bonds.
+    Rigid,
+}
+
+/// Bond kinematics of a deformable body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kinematics {
+    /// `s = (|ξ+η| − |ξ|)/|ξ|` along the deformed bond (Eq. 26): rotations cost nothing.
+    #[default]
+    Finite,
+    /// `s = (η·ξ̂)/|ξ|` along the reference bond (Silling's linearised PD): the small-strain
+    /// model that Hertz theory and linear finite elements describe.
+    Small,
+}
+
+/// How a rigid body moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Motion {
+    /// Does not move.
+    #[default]
+    Fixed,
+    /// Moves at the constant `velocity`.
+    Velocity,
+    /// Free to translate along `free_axis` under its loads and contact forces.
+    Free,
+}
+
+/// `[[body]]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    pub name: String,
+    #[serde(default)]
+    pub kind: BodyKind,
+    /// A mesh file (CDB, MSH, INP), relative to the scene file.
+    pub mesh: Option<PathBuf>,
+    /// Force the mesh format (cdb, msh, inp).
+    pub format: Option<String>,
+    /// A built-in shape instead of a mesh file.
+    pub generator: Option<GeneratorSpec>,
+    /// Applied after loading: scale, then rotate, then translate.
+    pub scale: Option<f64>,
+    pub rotate: Option<RotateSpec>,
+    pub translate: Option<[f64; 3]>,
+    /// Grid spacing Δ (default: median element edge).
+    pub spacing: Option<f64>,
+    /// Horizon factor m (default 3).
+    pub horizon_factor: Option<f64>,
+    /// Surface correction method (default "balanced").
+    pub surface_correction: Option<CorrectionMethod>,
+    /// Bond kinematics: "finite" (default; stretch of the deformed bond, paper Eq. 26) or
+    /// "small" (linearised: extension along the reference bond, for small-strain comparisons).
+    #[serde(default)]
+    pub kinematics: Kinematics,
+    /// Material of a deformable body (rigid bodies may give one for the contact stiffness;
+    /// without it a rigid body is infinitely stiff).
+    pub material: Option<MaterialSpec>,
+    /// Initial velocity of a deformable body, m/s.
+    pub velocity: Option<[f64; 3]>,
+    /// Rigid bodies: how the body moves.
+    #[serde(default)]
+    pub motion: Motion,
+    /// Rigid bodies with `motion = "velocity"`: the velocity, m/s.
+    pub motion_velocity: Option<[f64; 3]>,
+    /// Rigid bodies with `motion = "free"`: the axis it may translate along.
+    pub free_axis: Option<[f64; 3]>,
+    /// Rigid bodies with `motion = "free"`: its mass, kg (explicit runs).
+    pub mass: Option<f64>,
+}
+
+/// A built-in shape.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GeneratorSpec {
+    /// sphere, cylinder, box or plane.
+    pub shape: String,
+    pub radius: Option<f64>,
+    pub length: Option<f64>,
+    pub spacing: Option<f64>,
+    pub min: Option<[f64; 3]>,
+    pub max: Option<[f64; 3]>,
+    /// Plane: a point on it.
+    pub point: Option<[f64; 3]>,
+    /// Plane: its normal, pointing out of the rigid body (toward the other body).
+    pub normal: Option<[f64; 3]>,
+    /// Plane: side length of the square patch.
+    pub size: Option<f64>,
+    /// Plane: quads along each side (default 1).
+    pub divisions: Option<usize>,
+    /// Centre of a sphere or cylinder (default origin).
+    pub center: Option<[f64; 3]>,
+}
+
+/// A rotation about an axis through `center` (default origin).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotateSpec {
+    pub axis: [f64; 3],
+    pub angle_deg: f64,
+    pub center: Option<[f64; 3]>,
+}
+
+/// Linear elastic material.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    /// E, Pa.
+    pub youngs_modulus: f64,
+    /// ν; bond-based PD fixes 1/4.
+    pub poisson_ratio: f64,
+    /// ρ, kg/m³.
+    pub density: f64,
+}
+
+/// `[[load]]`: a total force on a body.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    pub body: String,
+    /// A named set of the body's mesh; without it, the whole body (as a body force by volume).
+    pub set: Option<String>,
+    /// Total force, N.
+    pub force: [f64; 3],
+}
+
+/// `[[constraint]]`: fixed displacement components of a set.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConstraintSpec {
+    pub body: String,
+    /// A named set (node or element set) of the body's mesh.
+    pub set: String,
+    /// Components held at zero: any of "x", "y", "z".
+    pub fix: Vec<String>,
+}
+
+/// `[[symmetry]]`: a symmetry plane `axis = at` of a body.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SymmetrySpec {
+    pub body: String,
+    /// "x", "y" or "z": the plane's normal axis.
+    pub axis: String,
+    /// The plane's coordinate along that axis (default 0).
+    #[serde(default)]
+    pub at: f64,
+    /// Which side of the plane the model keeps: "positive" (default) or "negative". A mesh
+    /// that reaches across the plane is cut there (its elements must not straddle it).
+    #[serde(default = "default_keep")]
+    pub keep: String,
+}
+
+fn default_keep() -> String {
+    "positive".to_string()
+}
+
+/// Penalty law of a contact pair.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum PenaltyLaw {
+    /// `F = K δ^{3/2}` with the Hertz stiffness (Eqs. 22-24).
+    #[default]
+    Hertz,
+    /// `F = K δ` with `K` the Hertz stiffness times √(window), for comparison.
+    Linear,
+}
+
+/// `[[contact]]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// The body whose surface particles are checked against the master's segments.
+    pub slave: String,
+    /// The body whose master segments are pressed on.
+    pub master: String,
+    /// Also check the master's particles against the slave's segments (deformable pairs).
+    #[serde(default)]
+    pub two_pass: bool,
+    #[serde(default)]
+    pub penalty: PenaltyLaw,
+    /// R of the Hertz stiffness (default Δ/2 of the slave).
+    pub radius: Option<f64>,
+    /// Contact method: "point-to-surface" (default) or "short-range".
+    pub method: Option<String>,
+}
+
+impl Scene {
+    /// Reads and checks a scene file.
+    pub fn load(path: &Path) -> Result<Scene> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Error::input(format!("{}: cannot read the scene: {e}", path.display())))?;
+        let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Scene::parse(&text, &path.display().to_string(), &base)
+    }
+
+    /// Parses scene text; `source` names it in messages, `base` anchors relative paths.
+    pub fn parse(text: &str, source: &str, base: &Path) -> Result<Scene> {
+        let mut scene: Scene = toml::from_str(text).map_err(|e| {
+            let (line, col) = e.span().map(|s| line_col(text, s.start)).unwrap_or((0, 0));
+            let msg = e.message().replace('\n', " ");
+            Error::input(format!("{source}:{line}:{col}: {msg}"))
+        })?;
+        scene.base = base.to_path_buf();
+        scene.source = source.to_string();
+        scene.text = text.to_string();
+        scene.check(text)?;
+        Ok(scene)
+    }
+
+    /// Checks what serde cannot: names, references, values.
+    fn check(&self, text: &str) -> Result<()> {
+        let at = |needle: &str| locate(text, needle);
+        let err = |needle: &str, msg: String| {
+            let (l, c) = at(needle);
+            Error::input(format!("{}:{l}:{c}: {msg}", self.source))
+        };
+        if self.bodies.is_empty() {
+            return Err(err("", "the scene has no [[body]]".to_string()));
+        }
+        for (k, b) in self.bodies.iter().enumerate() {
+            let key = format!("name = \"{}\"", b.name);
+            if self.bodies[..k].iter().any(|o| o.name == b.name) {
+                return Err(err(&key, format!("two bodies are named \"{}\"", b.name)));
+            }
+            match (&b.mesh, &b.generator) {
+                (None, None) => {
+                    return Err(err(
+                        &key,
+                        format!("body \"{}\" needs `mesh` or `generator`", b.name),
+                    ))
+                }
+                (Some(_), Some(_)) => {
+                    return Err(err(
+                        &key,
+                        format!(
+                            "body \"{}\" has both `mesh` and `generator`: keep one",
+                            b.name
+                        ),
+                    ))
+                }
+                _ => {}
+            }
+            if b.kind == BodyKind::Deformable {
+                let Some(m) = &b.material else {
+                    return Err(err(
+                        &key,
+                        format!("deformable body \"{}\" needs a [body.material]", b.name),
+                    ));
+                };
+                for (what, v) in [("youngs_modulus", m.youngs_modulus), ("density", m.density)] {
+                    if !(v > 0.0 && v.is_finite()) {
+                        return Err(err(
+                            what,
+                            format!("body \"{}\": {what} must be positive, got {v}", b.name),
+                        ));
+                    }
+                }
+                if (m.poisson_ratio - 0.25).abs() > 1e-9 {
+                    return Err(err(
+                        "poisson_ratio",
+                        format!(
+                            "body \"{}\": bond-based peridynamics fixes Poisson's ratio at 0.25, got {} (use 0.25)",
+                            b.name, m.poisson_ratio
+                        ),
+                    ));
+                }
+            }
+            if let Some(m) = &b.material {
+                if !(m.youngs_modulus > 0.0) || !(m.density > 0.0) {
+                    return Err(err(
+                        "youngs_modulus",
+                        format!("body \"{}\": material constants must be positive", b.name),
+                    ));
+                }
+            }
+            for (what, v) in [
+                ("spacing", b.spacing),
+                ("horizon_factor", b.horizon_factor),
+                ("scale", b.scale),
+            ] {
+                if let Some(v) = v {
+                    if !(v > 0.0 && v.is_finite()) {
+                        return Err(err(
+                            what,
+                            format!("body \"{}\": {what} must be positive, got {v}", b.name),
+                        ));
+                    }
+                }
+            }
+            if b.kind == BodyKind::Rigid {
+                match b.motion {
+                    Motion::Velocity if b.motion_velocity.is_none() => {
+                        return Err(err(&key, format!("rigid body \"{}\": motion = \"velocity\" needs motion_velocity = [vx, vy, vz]", b.name)))
+                    }
+                    Motion::Free if b.free_axis.is_none() => {
+                        return Err(err(&key, format!("rigid body \"{}\": motion = \"free\" needs free_axis = [ax, ay, az]", b.name)))
+                    }
+                    _ => {}
+                }
+            }
+        }
+        let body = |name: &str, needle: &str| -> Result<&BodySpec> {
+            self.bodies
+                .iter()
+                .find(|b| b.name == name)
+                .ok_or_else(|| err(needle, format!("no body is named \"{name}\"")))
+        };
+        for l in &self.loads {
+            body(&l.body, &format!("body = \"{}\"", l.body))?;
+            if l.force.iter().any(|f| !f.is_finite()) {
+                return Err(err("force", "load force must be finite".to_string()));
+            }
+        }
+        for c in &self.constraints {
+            let b = body(&c.body, &format!("body = \"{}\"", c.body))?;
+            if b.kind == BodyKind::Rigid {
+                return Err(err(
+                    "fix",
+                    format!("constraint on rigid body \"{}\": use its `motion`", c.body),
+                ));
+            }
+            for f in &c.fix {
+                if !matches!(f.as_str(), "x" | "y" | "z") {
+                    return Err(err(
+                        "fix",
+                        format!("fix takes \"x\", \"y\" or \"z\", got \"{f}\""),
+                    ));
+                }
+            }
+        }
+        for s in &self.symmetries {
+            let b = body(&s.body, &format!("body = \"{}\"", s.body))?;
+            if b.kind == BodyKind::Rigid {
+                return Err(err(
+                    "axis",
+                    format!(
+                        "symmetry plane on rigid body \"{}\": rigid bodies need none",
+                        s.body
+                    ),
+                ));
+            }
+            if !matches!(s.axis.as_str(), "x" | "y" | "z") {
+                return Err(err(
+                    "axis",
+                    format!(
+                        "symmetry axis must be \"x\", \"y\" or \"z\", got \"{}\"",
+                        s.axis
+                    ),
+                ));
+            }
+            if !matches!(s.keep.as_str(), "positive" | "negative") {
+                return Err(err(
+                    "keep",
+                    format!(
+                        "symmetry keep must be \"positive\" or \"negative\", got \"{}\"",
+                        s.keep
+                    ),
+                ));
+            }
+        }
+        for c in &self.contacts {
+            let s = body(&c.slave, &format!("slave = \"{}\"", c.slave))?;
+            body(&c.master, &format!("master = \"{}\"", c.master))?;
+            if c.slave == c.master {
+                return Err(err(
+                    &format!("slave = \"{}\"", c.slave),
+                    format!(
+                        "contact pair names body \"{}\" as both slave and master",
+                        c.slave
+                    ),
+                ));
+            }
+            if s.kind == BodyKind::Rigid {
+                return Err(err(
+                    &format!("slave = \"{}\"", c.slave),
+                    format!("slave \"{}\" is rigid: the slave must be deformable (swap slave and master)", c.slave),
+                ));
+            }
+            if let Some(m) = &c.method {
+                if !matches!(m.as_str(), "point-to-surface" | "short-range") {
+                    return Err(err("method", format!("contact method must be \"point-to-surface\" or \"short-range\", got \"{m}\"")));
+                }
+            }
+        }
+        match self.solver.kind {
+            SolverKind::Adr => {
+                if let Some(t) = self.solver.tolerance {
+                    if !(t > 0.0 && t < 1.0) {
+                        return Err(err(
+                            "tolerance",
+                            format!("tolerance must be in (0, 1), got {t}"),
+                        ));
+                    }
+                }
+            }
+            SolverKind::Explicit => {
+                if self.solver.end_time.is_none() {
+                    return Err(err("kind", "an explicit solver needs end_time".to_string()));
+                }
+                if let Some(dt) = self.solver.dt {
+                    if !(dt > 0.0 && dt.is_finite()) {
+                        return Err(err("dt", format!("dt must be positive, got {dt}")));
+                    }
+                }
+            }
+        }
+        if self.output.every == 0 {
+            return Err(err("every", "output.every must be at least 1".to_string()));
+        }
+        Ok(())
+    }
+
+    /// An input error at the first place the scene's text holds `needle`.
+    pub fn error_at(&self, needle: &str, msg: &str) -> Error {
+        let (l, c) = locate(&self.text, needle);
+        Error::input(format!("{}:{l}:{c}: {msg}", self.source))
+    }
+
+    /// A path of the scene, resolved against the scene's folder.
+    pub fn resolve(&self, p: &Path) -> PathBuf {
+        if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            self.base.join(p)
+        }
+    }
+}
+
+/// 1-based line and column of a byte offset.
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before
+        .rfind('\n')
+        .map_or(before.len(), |p| before.len() - p - 1)
+        + 1;
+    (line, col)
+}
+
+/// Line and column of the first occurrence of `needle` (1, 1 when absent or empty).
+fn locate(text: &str, needle: &str) -> (usize, usize) {
+    if needle.is_empty() {
+        return (1, 1);
+    }
+    text.find(needle).map_or((1, 1), |p| line_col(text, p))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = r#"
+[solver]
+kind = "adr"
+
+[[body]]
+name = "ball"
+generator = { shape = "sphere", radius = 1.0, spacing = 0.2 }
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+
+[[body]]
+name = "plane"
+kind = "rigid"
+generator = { shape = "plane", point = [0.0, 0.0, -1.0], normal = [0.0, 0.0, 1.0], size = 4.0 }
+
+[[load]]
+body = "ball"
+force = [0.0, 0.0, -1e6]
+
+[[contact]]
+slave = "ball"
+master = "plane"
+"#;
+
+    fn parse(s: &str) -> Result<Scene> {
+        Scene::parse(s, "scene.toml", Path::new("."))
+    }
+
+    #[test]
+    fn good_scene_parses() {
+        let s = parse(GOOD).expect("valid");
+        assert_eq!(s.bodies.len(), 2);
+        assert_eq!(s.contacts[0].penalty, PenaltyLaw::Hertz);
+    }
+
+    fn error_of(s: &str) -> String {
+        match parse(s) {
+            Ok(_) => panic!("accepted: {s}"),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    #[test]
+    fn unknown_key_has_line_and_column() {
+        let bad = GOOD.replace("kind = \"adr\"", "kind = \"adr\"\ntolerence = 1e-4");
+        let e = error_of(&bad);
+        assert!(e.starts_with("scene.toml:4:1:"), "{e}");
+        assert!(e.contains("tolerence"), "{e}");
+    }
+
+    #[test]
+    fn wrong_type_has_line_and_column() {
+        let bad = GOOD.replace("youngs_modulus = 1e9", "youngs_modulus = \"stiff\"");
+        let e = error_of(&bad);
+        assert!(e.starts_with("scene.toml:9:"), "{e}");
+    }
+
+    #[test]
+    fn semantic_errors_name_the_place() {
+        let e = error_of(&GOOD.replace("poisson_ratio = 0.25", "poisson_ratio = 0.3"));
+        assert!(e.contains("scene.toml:10:1") && e.contains("0.25"), "{e}");
+        let e = error_of(&GOOD.replace("youngs_modulus = 1e9", "youngs_modulus = -1e9"));
+        assert!(
+            e.contains("scene.toml:9:1") && e.contains("positive"),
+            "{e}"
+        );
+        let e = error_of(&GOOD.replace("density = 1000.0", "density = 0.0"));
+        assert!(e.contains("density must be positive"), "{e}");
+        let e = error_of(&GOOD.replace("master = \"plane\"", "master = \"ball\""));
+        assert!(
+            e.contains("both slave and master") && e.contains(":23:"),
+            "{e}"
+        );
+        let e = error_of(&GOOD.replace("master = \"plane\"", "master = \"floor\""));
+        assert!(e.contains("no body is named \"floor\""), "{e}");
+    }
+}
