@@ -27,6 +27,7 @@ pub mod case;
 pub mod contact;
 pub mod convert;
 pub mod correction;
+pub mod demo;
 pub mod discretize;
 pub mod error;
 pub mod generators;

@@ -53,6 +53,18 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// The main job: an elastic sphere pressed onto a rigid plane, compared with Hertz.
+    Demo {
+        /// Output folder (frames, summary.json, and the scene and mesh to run it again).
+        #[arg(short, long, default_value = "pdcontact-demo")]
+        output: PathBuf,
+        /// Print the comparison and summary as JSON on stdout.
+        #[arg(long)]
+        json: bool,
+        /// No progress on stderr.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Run a scene file: frames for ParaView and summary.json in the output folder.
     Run {
         /// The scene (TOML).
@@ -116,6 +128,24 @@ fn run(cli: Cli) -> Result<(), Error> {
             } else {
                 print!("{}", summary.to_text());
                 println!("wrote {}", output.display());
+            }
+            Ok(())
+        }
+        Command::Demo {
+            output,
+            json,
+            quiet,
+        } => {
+            let options = RunOptions {
+                output: None,
+                quiet,
+                stop: Some(stop_flag()),
+            };
+            let report = pdcontact::demo::run_demo(&output, &options)?;
+            if json {
+                println!("{}", to_json(&report));
+            } else {
+                print!("{}", report.to_text());
             }
             Ok(())
         }

@@ -141,6 +141,11 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
         .output
         .clone()
         .unwrap_or_else(|| scene.resolve(&scene.output.folder));
+    // "dir/." reads badly in messages: drop "." components.
+    let folder: PathBuf = folder
+        .components()
+        .filter(|c| !matches!(c, std::path::Component::CurDir))
+        .collect();
     let mut model = Model::from_scene(scene)?;
     let frames = FrameWriter::new(&folder, scene.output.every)?;
     let pvd = frames.pvd_path();

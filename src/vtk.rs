@@ -196,7 +196,7 @@ pub fn write_atomically(
         let mut w = std::io::BufWriter::new(file);
         write(&mut w)?;
         w.flush()?;
-        w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        drop(w);
         std::fs::rename(&tmp, path)
     })();
     result.map_err(|e| {

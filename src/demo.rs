@@ -1,0 +1,156 @@
+//! `pdcontact demo`: the main job on an embedded default.
+//!
+//! An elastic sphere (R = 1 m, E = 1 GPa, ν = 0.25) meshed with hex8 by gmsh
+//! (`meshes/sphere_r1_d008.msh`, embedded in the binary) pressed onto a rigid plane, solved
+//! quasi-statically by ADR, and compared with Hertz theory. The mesh and the scene are written
+//! into the output folder first, so that the run can be repeated and changed with
+//! `pdcontact run DIR/scene.toml`.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::analysis::{contact_patch, e_star_rigid, elliptic_accuracy, hertz_sphere, Accuracy};
+use crate::error::{Error, Result};
+use crate::run::{run_scene, RunOptions, RunSummary};
+use crate::scene::Scene;
+use crate::vtk::write_atomically;
+
+/// The embedded sphere mesh.
+pub const SPHERE_MESH: &[u8] = include_bytes!("../meshes/sphere_r1_d008.msh");
+/// Its file name.
+pub const SPHERE_MESH_NAME: &str = "sphere_r1_d008.msh";
+
+/// Sphere radius, Young's modulus, Poisson's ratio and load of the demo.
+pub const RADIUS: f64 = 1.0;
+pub const YOUNGS: f64 = 1.0e9;
+pub const POISSON: f64 = 0.25;
+/// Total load: Hertz contact radius 0.3 m against a rigid plane (a/R = 0.3).
+pub const LOAD: f64 = 3.84e7;
+
+/// The demo scene (documented: it is the user's first example).
+pub fn scene_text() -> String {
+    format!(
+        r#"# pdcontact demo: an elastic sphere pressed onto a rigid plane, compared with Hertz.
+# Run it again (or change it) with:  pdcontact run scene.toml
+
+[solver]
+kind = "adr"               # quasi-static: adaptive dynamic relaxation
+tolerance = 1e-4           # out-of-balance force / applied load
+max_iterations = 50000
+
+[output]
+folder = "."               # frames and summary.json next to this file
+every = 100                # a frame every 100 iterations: watch the contact form in ParaView
+
+[[body]]
+name = "ball"
+mesh = "{mesh}"            # R = 1 m, hex8, median edge 0.083 m (gmsh, cubed sphere)
+kinematics = "small"       # Hertz theory is small-strain: compare like with like
+[body.material]
+youngs_modulus = {e:e}
+poisson_ratio = {nu}
+density = 1000.0
+
+[[body]]
+name = "plane"
+kind = "rigid"
+generator = {{ shape = "plane", point = [0.0, 0.0, -1.0], normal = [0.0, 0.0, 1.0], size = 3.0 }}
+
+[[load]]
+body = "ball"              # spread over the whole sphere by volume
+force = [0.0, 0.0, -{p:e}]
+
+[[contact]]
+slave = "ball"
+master = "plane"
+radius = 1.0               # R of the Hertz penalty K = 4/3 E* sqrt(R): stiffer than the
+                           # default R = Δ/2, so that the penetration stays small
+"#,
+        mesh = SPHERE_MESH_NAME,
+        e = YOUNGS,
+        nu = POISSON,
+        p = LOAD,
+    )
+}
+
+/// Computed against theory.
+#[derive(Clone, Debug, Serialize)]
+pub struct DemoReport {
+    pub theory_radius: f64,
+    pub theory_peak_pressure: f64,
+    pub contact_radius: f64,
+    pub peak_pressure: f64,
+    pub accuracy: Accuracy,
+    pub summary: RunSummary,
+}
+
+impl DemoReport {
+    /// The printed table.
+    pub fn to_text(&self) -> String {
+        let s = &self.summary;
+        let rel = |x: f64, t: f64| 100.0 * (x / t - 1.0);
+        format!(
+            "Elastic sphere on a rigid plane: R = {RADIUS} m, E = {YOUNGS:.1e} Pa, nu = {POISSON}, P = {LOAD:.3e} N\n\
+             {} particles, {} bonds; ADR {} iterations, residual {:.2e}, {:.1} s\n\n\
+             {:<32} {:>14} {:>14} {:>9}\n\
+             {:<32} {:>14.4} {:>14.4} {:>+8.2}%\n\
+             {:<32} {:>14.4e} {:>14.4e} {:>+8.2}%\n\
+             {:<32} {:>14} {:>14} {:>8.2}%\n\
+             {:<32} {:>14.4e} {:>14.4e} {:>8.3}%\n\n\
+             Frames: {}\n",
+            s.particles,
+            s.bonds,
+            s.iterations,
+            s.residual,
+            s.wall_seconds,
+            "",
+            "computed",
+            "Hertz",
+            "error",
+            "contact radius a (m, fitted)",
+            self.contact_radius,
+            self.theory_radius,
+            rel(self.contact_radius, self.theory_radius),
+            "peak pressure p0 (Pa)",
+            self.peak_pressure,
+            self.theory_peak_pressure,
+            rel(self.peak_pressure, self.theory_peak_pressure),
+            "mean error of p(r), r <= 0.8a",
+            "",
+            "",
+            100.0 * self.accuracy.mre,
+            "total contact force (N)",
+            s.total_contact_force[2],
+            LOAD,
+            100.0 * s.force_balance_error,
+            s.outputs.pvd.display(),
+        )
+    }
+}
+
+/// Runs the demo into `folder`.
+pub fn run_demo(folder: &Path, options: &RunOptions) -> Result<DemoReport> {
+    std::fs::create_dir_all(folder).map_err(|e| Error::output(folder, e))?;
+    let mesh_path = folder.join(SPHERE_MESH_NAME);
+    write_atomically(&mesh_path, |w| std::io::Write::write_all(w, SPHERE_MESH))?;
+    let scene_path: PathBuf = folder.join("scene.toml");
+    let text = scene_text();
+    write_atomically(&scene_path, |w| {
+        std::io::Write::write_all(w, text.as_bytes())
+    })?;
+    let scene = Scene::load(&scene_path)?;
+    let (model, summary) = run_scene(&scene, options)?;
+    let (a, p0) = hertz_sphere(LOAD, RADIUS, e_star_rigid(YOUNGS, POISSON));
+    let patch = contact_patch(&model, 0, None)
+        .ok_or_else(|| Error::numerical("the sphere did not touch the plane"))?;
+    let accuracy = elliptic_accuracy(&patch, a, p0);
+    Ok(DemoReport {
+        theory_radius: a,
+        theory_peak_pressure: p0,
+        contact_radius: accuracy.fitted_radius,
+        peak_pressure: patch.peak,
+        accuracy,
+        summary,
+    })
+}

@@ -1,0 +1,191 @@
+//! The command line as a user drives it: exit codes, JSON, error lines.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn exe() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+}
+
+fn repo(p: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pdcontact-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+fn json_of(out: &std::process::Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("stdout is JSON")
+}
+
+/// The stored meshes, checked against counts that follow from their construction:
+/// the box is 10 x 10 x 5 cells; the spheres' counts are gmsh's (meshes/README.md).
+#[test]
+fn inspect_stored_meshes() {
+    let cases = [
+        ("meshes/block_hex.msh", 726, 500, 400),
+        ("meshes/sphere_r1_d012.msh", 3137, 2800, 600),
+        ("meshes/sphere_r1_d008.msh", 8087, 7448, 1176),
+    ];
+    for (file, nodes, hexes, quads) in cases {
+        let v = json_of(
+            &exe()
+                .args(["inspect", "--json"])
+                .arg(repo(file))
+                .output()
+                .expect("runs"),
+        );
+        assert_eq!(v["format"], "msh", "{file}");
+        assert_eq!(v["nodes_total"], nodes, "{file}");
+        assert_eq!(v["corner_nodes_in_3d_elements"], nodes, "{file}");
+        assert_eq!(v["elements_3d"]["hex8"], hexes, "{file}");
+        assert_eq!(v["elements_3d"]["total"], hexes, "{file}");
+        assert_eq!(v["boundary_faces"]["quad"], quads, "{file}");
+        assert_eq!(v["boundary_faces"]["tri"], 0, "{file}");
+    }
+    let tet = json_of(
+        &exe()
+            .args(["inspect", "--json"])
+            .arg(repo("meshes/sphere_tet4.msh"))
+            .output()
+            .expect("runs"),
+    );
+    assert_eq!(tet["elements_3d"]["tet4"], 5571);
+    // A closed triangulated surface of V vertices has 2V − 4 triangles.
+    let surface_nodes = tet["sets"]
+        .as_array()
+        .expect("sets")
+        .iter()
+        .find(|s| s["name"] == "surface")
+        .expect("surface group")["nodes"]
+        .as_u64()
+        .expect("count");
+    assert_eq!(
+        tet["boundary_faces"]["tri"].as_u64(),
+        Some(2 * surface_nodes - 4)
+    );
+}
+
+#[test]
+fn inspect_text_and_forced_format() {
+    let out = exe()
+        .args(["inspect", "--format", "msh"])
+        .arg(repo("meshes/block_hex.msh"))
+        .output()
+        .expect("runs");
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("500 hex8") && text.contains("top"), "{text}");
+}
+
+#[test]
+fn bad_mesh_exits_2_with_a_located_error() {
+    let dir = temp_dir("bad");
+    let file = dir.join("broken.msh");
+    std::fs::write(
+        &file,
+        "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2 1 2\n3 1 0 two\n",
+    )
+    .expect("write");
+    let out = exe().args(["inspect"]).arg(&file).output().expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let first = err.lines().next().unwrap_or("");
+    assert!(
+        first.contains("broken.msh:") && first.contains("expected") && first.contains("found"),
+        "{err}"
+    );
+    // Not a mesh at all.
+    let junk = dir.join("junk.xyz");
+    std::fs::write(&junk, [0u8, 159, 146, 150]).expect("write");
+    let out = exe().args(["inspect"]).arg(&junk).output().expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    let missing = exe()
+        .args(["inspect", "no/such/file.msh"])
+        .output()
+        .expect("runs");
+    assert_eq!(missing.status.code(), Some(2));
+}
+
+#[test]
+fn convert_writes_a_case_folder() {
+    let dir = temp_dir("convert");
+    let out = exe()
+        .args(["convert", "--json", "-o"])
+        .arg(&dir)
+        .arg(repo("meshes/sphere_r1_d012.msh"))
+        .output()
+        .expect("runs");
+    let v = json_of(&out);
+    for key in [
+        "particles",
+        "bonds",
+        "spacing",
+        "horizon",
+        "total_volume",
+        "mesh_volume",
+        "surface_particles",
+        "boundary_nodes",
+        "surface_missed",
+        "surface_extra",
+        "master_segments",
+        "dropped_faces",
+        "seconds",
+    ] {
+        assert!(!v[key].is_null(), "missing {key} in {v}");
+    }
+    assert_eq!(v["particles"], 3137);
+    let h = v["horizon"].as_f64().expect("h") / v["spacing"].as_f64().expect("d");
+    assert!((h - 3.0).abs() < 1e-12);
+    for f in ["case.toml", "particles.vtu", "segments.vtu"] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    // The scene skeleton runs as it is.
+    let run = exe()
+        .args(["run", "--quiet", "--json"])
+        .arg(dir.join("case.toml"))
+        .output()
+        .expect("runs");
+    let s = json_of(&run);
+    assert_eq!(s["converged"], true, "{s}");
+    assert!(
+        s["force_balance_error"].as_f64().expect("balance") < 1e-3,
+        "{s}"
+    );
+    // And --horizon-factor changes the horizon.
+    let v = json_of(
+        &exe()
+            .args(["convert", "--json", "--horizon-factor", "2.5", "-o"])
+            .arg(dir.join("m25"))
+            .arg(repo("meshes/block_hex.msh"))
+            .output()
+            .expect("runs"),
+    );
+    assert!(
+        (v["horizon"].as_f64().expect("h") - 0.25).abs() < 1e-9,
+        "{v}"
+    );
+}
+
+#[test]
+fn scene_errors_exit_2_with_line_and_column() {
+    let dir = temp_dir("scene");
+    let scene = dir.join("s.toml");
+    std::fs::write(&scene, "[solver]\nkind = \"adr\"\nspeed = 3\n").expect("write");
+    let out = exe().args(["run"]).arg(&scene).output().expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("s.toml:3:1:") && err.contains("speed"),
+        "{err}"
+    );
+}
