@@ -24,7 +24,9 @@ use crate::vtk::{write_vtu, CellSpec, Field, PvdCollection};
 /// Name of the collection file.
 pub const PVD_NAME: &str = "run.pvd";
 
-/// Contact pressure per particle: normal contact force over undeformed tributary area.
+/// Contact pressure per particle: normal contact force over undeformed tributary area
+/// (METHOD.md §5). The penalty force acts along the master segment's normal, so its magnitude
+/// is the normal contact force; frictionless contact has no other component.
 pub fn contact_pressure(model: &Model, body: usize) -> Vec<f64> {
     let Some(pd) = model.bodies[body].as_pd() else {
         return Vec::new();
@@ -32,12 +34,9 @@ pub fn contact_pressure(model: &Model, body: usize) -> Vec<f64> {
     let area = &pd.case.segments.tributary_area;
     (0..pd.len())
         .map(|i| {
-            let f = pd.contact_force[i];
-            if area[i] > 0.0 && f.norm() > 0.0 {
-                // Compressive pressure: the force pushes the particle into its own body.
-                let n = pd.case.surface.normal[i];
-                let fn_ = if n.norm() > 0.0 { -f.dot(&n) } else { f.norm() };
-                fn_.max(0.0) / area[i]
+            let f = pd.contact_force[i].norm();
+            if area[i] > 0.0 && f > 0.0 {
+                f / area[i]
             } else {
                 0.0
             }

@@ -1,0 +1,101 @@
+//! The README's first command, and its files read back by VTK's own readers.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use pdcontact::demo::run_demo;
+use pdcontact::run::RunOptions;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pdcontact-demo-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// Runs tools/check_vtk.py; `None` when Python's vtk is not installed (CI installs it).
+fn check_vtk(args: &[&str]) -> Option<serde_json::Value> {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/check_vtk.py");
+    let has_vtk = Command::new("python3")
+        .args(["-c", "import vtk, numpy"])
+        .status()
+        .map(|s| s.success())
+        .unwrap_or(false);
+    if !has_vtk {
+        eprintln!("python3 with vtk not found: VTK reader check skipped (pip install vtk)");
+        return None;
+    }
+    let out = Command::new("python3")
+        .arg(script)
+        .args(args)
+        .output()
+        .expect("python runs");
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON report");
+    assert!(out.status.success(), "VTK check failed: {report}");
+    Some(report)
+}
+
+#[test]
+fn demo_converges_balances_and_loads_in_vtk() {
+    let dir = temp_dir("run");
+    let report = run_demo(
+        &dir,
+        &RunOptions {
+            output: None,
+            quiet: true,
+            stop: None,
+        },
+    )
+    .expect("demo runs");
+    let s = &report.summary;
+    assert!(s.converged);
+    assert!(s.force_balance_error < 1e-3, "{}", s.force_balance_error);
+    assert_eq!(s.missed_contacts, 0);
+    // The printed table compares with Hertz: a = (3PR/4E*)^{1/3}.
+    assert!((report.theory_radius - 0.3).abs() < 1e-3);
+    assert!(
+        (report.contact_radius / report.theory_radius - 1.0).abs() < 0.10,
+        "{}",
+        report.to_text()
+    );
+    assert!(
+        (report.peak_pressure / report.theory_peak_pressure - 1.0).abs() < 0.20,
+        "{}",
+        report.to_text()
+    );
+    assert!(dir.join("scene.toml").exists() && dir.join("summary.json").exists());
+    if let Some(r) = check_vtk(&[
+        "run",
+        dir.to_str().expect("utf-8"),
+        "--plane-normal",
+        "0,0,1",
+        "--plane-point",
+        "0,0,-1",
+    ]) {
+        assert_eq!(r["loaded_not_facing"], 0);
+        assert!(r["loaded"].as_u64().expect("count") > 10);
+        // Loaded particles sit on the plane (within the penetration).
+        assert!(r["max_height_of_loaded"].as_f64().expect("height").abs() < 0.01);
+    }
+}
+
+#[test]
+fn convert_output_loads_in_vtk() {
+    let dir = temp_dir("case");
+    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/sphere_tet4.msh");
+    let status = Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+        .args(["convert", "-o"])
+        .arg(&dir)
+        .arg(&mesh)
+        .output()
+        .expect("runs");
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    if let Some(r) = check_vtk(&["case", dir.to_str().expect("utf-8")]) {
+        assert_eq!(r["particles"], r["vertex_cells"]);
+        assert!(r["segments"].as_u64().expect("count") > 100);
+    }
+}

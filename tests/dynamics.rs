@@ -1,0 +1,185 @@
+//! Whole runs through the library: explicit impact, stable step, several bodies.
+
+use std::path::{Path, PathBuf};
+
+use pdcontact::run::{run_scene, RunOptions};
+use pdcontact::scene::Scene;
+use pdcontact::Error;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pdcontact-dyn-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+fn mesh(p: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(p)
+        .display()
+        .to_string()
+}
+
+fn quiet(dir: &Path) -> RunOptions {
+    RunOptions {
+        output: Some(dir.to_path_buf()),
+        quiet: true,
+        stop: None,
+    }
+}
+
+/// The sphere dropped onto the rigid plane at 1 m/s (explicit): it bounces off elastically,
+/// no contact is missed, and the total energy (kinetic + strain + contact) is conserved.
+fn drop_scene(safety: f64) -> String {
+    format!(
+        r#"
+[solver]
+kind = "explicit"
+end_time = 0.1
+safety = {safety}
+stop_after_rebound = true
+[output]
+every = 100000
+[[body]]
+name = "ball"
+mesh = "{mesh}"
+velocity = [0.0, 0.0, -1.0]
+translate = [0.0, 0.0, 0.002]
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[body]]
+name = "plane"
+kind = "rigid"
+generator = {{ shape = "plane", point = [0.0, 0.0, -1.0], normal = [0.0, 0.0, 1.0], size = 3.0 }}
+[[contact]]
+slave = "ball"
+master = "plane"
+"#,
+        mesh = mesh("meshes/sphere_r1_d012.msh")
+    )
+}
+
+#[test]
+fn explicit_drop_conserves_energy() {
+    let dir = temp_dir("drop");
+    let scene = Scene::parse(&drop_scene(0.8), "drop.toml", &dir).expect("scene");
+    let (model, summary) = run_scene(&scene, &quiet(&dir)).expect("runs");
+    assert!(summary.solver.rebounded, "{summary:?}");
+    assert_eq!(summary.missed_contacts, 0);
+    assert!(
+        summary.solver.energy_drift < 0.01,
+        "energy drift {}",
+        summary.solver.energy_drift
+    );
+    // An elastic bounce: the sphere leaves at (nearly) the speed it came with.
+    let pd = model.bodies[0].as_pd().expect("deformable");
+    let momentum: f64 = pd.v.iter().zip(&pd.mass).map(|(v, m)| v.z * m).sum();
+    let mass: f64 = pd.mass.iter().sum();
+    let vz = momentum / mass;
+    assert!((vz - 1.0).abs() < 0.02, "rebound speed {vz}");
+}
+
+#[test]
+fn unstable_time_step_is_caught() {
+    let dir = temp_dir("unstable");
+    let scene = Scene::parse(&drop_scene(3.0), "drop.toml", &dir).expect("scene");
+    match run_scene(&scene, &quiet(&dir)) {
+        Err(Error::Numerical(msg)) => {
+            assert!(msg.contains("time step dt ="), "{msg}");
+            assert!(msg.contains("step "), "{msg}");
+        }
+        other => panic!(
+            "3x the stable step was not caught: {:?}",
+            other.map(|r| r.1)
+        ),
+    }
+    // summary.json says what happened.
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).expect("summary"))
+            .expect("json");
+    assert_eq!(s["converged"], false);
+    assert!(s["error"].as_str().expect("error").contains("unstable"));
+}
+
+/// Two spheres stacked on a plane, quarter models by symmetry: deformable–deformable (two
+/// passes) and deformable–rigid contact, loads balanced through the stack.
+#[test]
+fn two_spheres_on_a_plane_balance() {
+    let dir = temp_dir("stack");
+    let text = r#"
+[solver]
+kind = "adr"
+tolerance = 1e-4
+max_iterations = 50000
+[output]
+every = 100000
+[[body]]
+name = "low"
+generator = { shape = "sphere", radius = 0.5, spacing = 0.08, center = [0.0, 0.0, -0.5] }
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[body]]
+name = "high"
+generator = { shape = "sphere", radius = 0.5, spacing = 0.08, center = [0.0, 0.0, 0.5] }
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[body]]
+name = "floor"
+kind = "rigid"
+generator = { shape = "plane", point = [0.0, 0.0, -1.0], normal = [0.0, 0.0, 1.0], size = 2.0 }
+[[load]]
+body = "low"
+force = [0.0, 0.0, -2e5]
+[[load]]
+body = "high"
+force = [0.0, 0.0, -4e5]
+[[contact]]
+slave = "high"
+master = "low"
+two_pass = true
+radius = 0.5
+[[contact]]
+slave = "low"
+master = "floor"
+radius = 0.5
+[[symmetry]]
+body = "low"
+axis = "x"
+[[symmetry]]
+body = "low"
+axis = "y"
+[[symmetry]]
+body = "high"
+axis = "x"
+[[symmetry]]
+body = "high"
+axis = "y"
+"#;
+    let scene = Scene::parse(text, "stack.toml", &dir).expect("scene");
+    let (model, summary) = run_scene(&scene, &quiet(&dir)).expect("runs");
+    assert!(summary.converged);
+    assert!(
+        summary.force_balance_error < 1e-3,
+        "{}",
+        summary.force_balance_error
+    );
+    // The floor carries both loads.
+    assert!(
+        (summary.total_contact_force[2] / 6e5 - 1.0).abs() < 1e-3,
+        "{:?}",
+        summary.total_contact_force
+    );
+    // The upper sphere rests on the lower one: its contact force balances its own load.
+    let high = model.bodies[1].as_pd().expect("deformable");
+    let on_high: f64 = high.contact_force.iter().map(|f| f.z).sum();
+    assert!(
+        (on_high / 4e5 - 1.0).abs() < 2e-3,
+        "force on the upper sphere {on_high}"
+    );
+}
