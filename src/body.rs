@@ -332,23 +332,41 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
                 need(g.spacing.or(spec.spacing), "spacing")?,
             ),
             "box" => {
-                let (Some(lo), Some(hi)) = (g.min, g.max) else {
-                    return Err(scene.error_at("generator", &format!("body \"{}\": a box needs min and max", spec.name)));
+                let corner = |v: &Option<Vec<f64>>| v.as_ref().filter(|v| v.len() == 3).map(|v| [v[0], v[1], v[2]]);
+                let (Some(lo), Some(hi)) = (corner(&g.min), corner(&g.max)) else {
+                    return Err(scene.error_at("generator", &format!("body \"{}\": a box needs min and max, three numbers each", spec.name)));
                 };
                 if (0..3).any(|k| hi[k] <= lo[k]) {
                     return Err(scene.error_at("generator", &format!("body \"{}\": box max must exceed min on every axis", spec.name)));
                 }
                 generators::cuboid(lo, hi, need(g.spacing.or(spec.spacing), "spacing")?)
             }
+            "sphere_cap" | "cylinder_cap" => {
+                let r = need(g.radius, "radius")?;
+                let corner = |v: &Option<Vec<f64>>| v.as_ref().filter(|v| v.len() >= 2).map(|v| [v[0], v[1]]);
+                let (Some(lo), Some(hi)) = (corner(&g.min), corner(&g.max)) else {
+                    return Err(scene.error_at("generator", &format!("body \"{}\": a cap needs min and max, its footprint [x, y]", spec.name)));
+                };
+                if hi[0] <= lo[0] || hi[1] <= lo[1] {
+                    return Err(scene.error_at("generator", &format!("body \"{}\": cap max must exceed min in x and y", spec.name)));
+                }
+                let height = need(g.height, "height")?;
+                let shape = if g.shape == "sphere_cap" {
+                    generators::CapShape::Sphere(r)
+                } else {
+                    generators::CapShape::Cylinder(r)
+                };
+                generators::cap(shape, [lo[0], lo[1]], [hi[0], hi[1]], height, need(g.spacing.or(spec.spacing), "spacing")?)
+            }
             "plane" => return Ok(None),
             other => {
                 return Err(scene.error_at(
                     "shape",
-                    &format!("body \"{}\": unknown generator shape \"{other}\" (sphere, cylinder, box, plane)", spec.name),
+                    &format!("body \"{}\": unknown generator shape \"{other}\" (sphere, cylinder, box, sphere_cap, cylinder_cap, plane)", spec.name),
                 ))
             }
         };
-        if g.shape != "box" {
+        if !matches!(g.shape.as_str(), "box") {
             for p in &mut m.coords {
                 *p = (Vec3::from(*p) + centre).into();
             }

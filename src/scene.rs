@@ -187,13 +187,15 @@ pub struct BodySpec {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GeneratorSpec {
-    /// sphere, cylinder, box or plane.
+    /// sphere, cylinder, box, sphere_cap, cylinder_cap or plane.
     pub shape: String,
     pub radius: Option<f64>,
     pub length: Option<f64>,
     pub spacing: Option<f64>,
-    pub min: Option<[f64; 3]>,
-    pub max: Option<[f64; 3]>,
+    /// Box: the lower corner `[x, y, z]`; caps: the footprint's lower corner `[x, y]`.
+    pub min: Option<Vec<f64>>,
+    /// Box: the upper corner; caps: the footprint's upper corner.
+    pub max: Option<Vec<f64>>,
     /// Plane: a point on it.
     pub point: Option<[f64; 3]>,
     /// Plane: its normal, pointing out of the rigid body (toward the other body).
@@ -202,8 +204,10 @@ pub struct GeneratorSpec {
     pub size: Option<f64>,
     /// Plane: quads along each side (default 1).
     pub divisions: Option<usize>,
-    /// Centre of a sphere or cylinder (default origin).
+    /// Centre of a sphere, cylinder or cap (default origin).
     pub center: Option<[f64; 3]>,
+    /// Cap: height of the flat top above the lowest point.
+    pub height: Option<f64>,
 }
 
 /// A rotation about an axis through `center` (default origin).
