@@ -44,9 +44,14 @@ pub enum Profile {
 }
 
 /// Pressures of one body's slave particles facing a contact, in the contact's frame.
+///
+/// Positions are the particles' reference positions: pressures are per undeformed area
+/// (METHOD.md §5), and in the small-strain theories they are compared with, `r` is a material
+/// coordinate. (Measured on the deformed surface, `r` shrinks by up to (1 − 2ν)/3 · p0/E* · a,
+/// about 1.7 % of `a` at p0/E = 0.1, which would move the figures by about 1 %.)
 #[derive(Clone, Debug, Default)]
 pub struct ContactPatch {
-    /// Pressure-weighted centre of the contact (current positions).
+    /// Pressure-weighted centre of the contact (reference positions).
     pub centre: Vec3,
     /// Unit direction of the total contact force on the body.
     pub direction: Vec3,
@@ -75,9 +80,10 @@ pub fn contact_patch(model: &Model, body: usize, strip_axis: Option<Vec3>) -> Op
         return None;
     }
     let direction = force.normalize();
+    let x = &pd.case.particles.position;
     let mut centre = Vec3::zeros();
     for i in 0..pd.len() {
-        centre += pd.position(i) * (p[i] * pd.case.segments.tributary_area[i] / total);
+        centre += x[i] * (p[i] * pd.case.segments.tributary_area[i] / total);
     }
     // In a symmetric model the whole contact's centre lies on the symmetry planes.
     for plane in &pd.case.ghosts.planes {
@@ -103,7 +109,7 @@ pub fn contact_patch(model: &Model, body: usize, strip_axis: Option<Vec3>) -> Op
             continue;
         }
         peak = peak.max(p[i]);
-        points.push((i as u32, radial(pd.position(i)), p[i]));
+        points.push((i as u32, radial(x[i]), p[i]));
     }
     Some(ContactPatch {
         centre,

@@ -343,20 +343,20 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
             }
             "sphere_cap" | "cylinder_cap" => {
                 let r = need(g.radius, "radius")?;
-                let corner = |v: &Option<Vec<f64>>| v.as_ref().filter(|v| v.len() >= 2).map(|v| [v[0], v[1]]);
-                let (Some(lo), Some(hi)) = (corner(&g.min), corner(&g.max)) else {
-                    return Err(scene.error_at("generator", &format!("body \"{}\": a cap needs min and max, its footprint [x, y]", spec.name)));
-                };
-                if hi[0] <= lo[0] || hi[1] <= lo[1] {
-                    return Err(scene.error_at("generator", &format!("body \"{}\": cap max must exceed min in x and y", spec.name)));
+                let half_width = need(g.half_width, "half_width")?;
+                if half_width >= r {
+                    return Err(scene.error_at("half_width", &format!("body \"{}\": a cap's half_width must be less than its radius", spec.name)));
                 }
-                let height = need(g.height, "height")?;
+                let depth = need(g.depth, "depth")?;
+                if depth >= r {
+                    return Err(scene.error_at("depth", &format!("body \"{}\": a cap's depth must be less than its radius", spec.name)));
+                }
                 let shape = if g.shape == "sphere_cap" {
                     generators::CapShape::Sphere(r)
                 } else {
-                    generators::CapShape::Cylinder(r)
+                    generators::CapShape::Cylinder { radius: r, thickness: need(g.length, "length (the slice thickness along y)")? }
                 };
-                generators::cap(shape, [lo[0], lo[1]], [hi[0], hi[1]], height, need(g.spacing.or(spec.spacing), "spacing")?)
+                generators::cap(shape, half_width, depth, need(g.spacing.or(spec.spacing), "spacing")?)
             }
             "plane" => return Ok(None),
             other => {

@@ -206,8 +206,10 @@ pub struct GeneratorSpec {
     pub divisions: Option<usize>,
     /// Centre of a sphere, cylinder or cap (default origin).
     pub center: Option<[f64; 3]>,
-    /// Cap: height of the flat top above the lowest point.
-    pub height: Option<f64>,
+    /// Cap: how far the contact surface reaches to each side of the lowest point.
+    pub half_width: Option<f64>,
+    /// Cap: radial thickness of the shell sector.
+    pub depth: Option<f64>,
 }
 
 /// A rotation about an axis through `center` (default origin).
