@@ -38,8 +38,8 @@ impl ImportError {
         ImportError {
             path: path.to_path_buf(),
             location: Location::Line(line),
-            expected: expected.into(),
-            found: found.into(),
+            expected: clip(expected.into(), MAX_EXPECTED),
+            found: clip(found.into(), MAX_FOUND),
         }
     }
 
@@ -53,8 +53,8 @@ impl ImportError {
         ImportError {
             path: path.to_path_buf(),
             location: Location::Byte(offset),
-            expected: expected.into(),
-            found: found.into(),
+            expected: clip(expected.into(), MAX_EXPECTED),
+            found: clip(found.into(), MAX_FOUND),
         }
     }
 
@@ -67,8 +67,8 @@ impl ImportError {
         ImportError {
             path: path.to_path_buf(),
             location: Location::File,
-            expected: expected.into(),
-            found: found.into(),
+            expected: clip(expected.into(), MAX_EXPECTED),
+            found: clip(found.into(), MAX_FOUND),
         }
     }
 }
@@ -86,6 +86,24 @@ impl fmt::Display for ImportError {
 }
 
 impl std::error::Error for ImportError {}
+
+/// Longest "expected" half of a message, in characters; longer text (a name taken from the
+/// file) is cut with "...". With [`MAX_FOUND`] this keeps a message, after the file name,
+/// within 280 characters.
+pub const MAX_EXPECTED: usize = 160;
+/// Longest "found" half of a message, in characters.
+pub const MAX_FOUND: usize = 80;
+
+/// Cuts `s` to at most `max` characters, ending in "..." when cut.
+fn clip(mut s: String, max: usize) -> String {
+    if let Some((cut, _)) = s.char_indices().nth(max.saturating_sub(3)) {
+        if s.chars().count() > max {
+            s.truncate(cut);
+            s.push_str("...");
+        }
+    }
+    s
+}
 
 /// Describes a piece of input for the "found" half of a message: quoted, at most 40
 /// characters, control and non-ASCII bytes escaped, and named when it is empty or NUL padding.
@@ -156,5 +174,15 @@ mod tests {
         assert_eq!(describe_found(b"  \r\n"), "a blank line");
         assert_eq!(describe_found(b" 1.0e\x01 "), "'1.0e\\x01'");
         assert!(describe_found(&[b'a'; 100]).ends_with("...'"));
+    }
+
+    #[test]
+    fn long_halves_are_clipped() {
+        let p = Path::new("a.inp");
+        let e = ImportError::at_line(p, 1, "x".repeat(1000), "\u{e9}".repeat(1000));
+        assert_eq!(e.expected.chars().count(), MAX_EXPECTED);
+        assert!(e.expected.ends_with("..."));
+        assert_eq!(e.found.chars().count(), MAX_FOUND);
+        assert_eq!(ImportError::at_byte(p, 0, "short", "y").found, "y");
     }
 }

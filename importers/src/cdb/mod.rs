@@ -510,6 +510,11 @@ impl<'p> Reader<'p> {
         out.clear();
         let mut blank: Option<&Column> = None;
         for c in cols {
+            if c.start >= line.len() {
+                // Columns only move right: the rest are past the end of the line, so blank
+                // (a format line may declare thousands of columns for a short record).
+                break;
+            }
             let f = c.slice(line);
             let t = f.trim_ascii();
             if t.is_empty() {
@@ -655,8 +660,7 @@ impl<'p> Reader<'p> {
             return Err(self.err(
                 no,
                 "the 11 leading fields of a SOLID EBLOCK record (material, type, real, section, \
-                 coordinate system, birth/death, solid entity, shape, node count, unused, element \
-                 number)",
+                 system, birth/death, entity, shape, node count, unused, element number)",
                 format!("{} fields", f.len()),
             ));
         }

@@ -109,7 +109,7 @@ use crate::mesh::{ElementKind, Mesh, NamedSet, SetKind, MISSING_NODE};
 use geom::{local_system, rotation_about, Affine};
 use labels::LabelMap;
 use lex::Keyword;
-use sets::{push_label, push_range, remap_chunks, resolve, Chunk};
+use sets::{append_chunks, chunk_members, push_label, push_range, remap_chunks, resolve, Chunk};
 use types::Class;
 
 /// Labels above this are refused (they would collide with [`GLOBAL`]-tagged node references).
@@ -117,8 +117,55 @@ const MAX_LABEL: u64 = 1 << 62;
 /// Tags an element's node reference that is already a dense mesh index (assembly-level
 /// elements naming `instance.label` nodes).
 const GLOBAL: u64 = 1 << 63;
+/// Set members that set names on data lines may copy, per byte of input (see
+/// [`Reader::set_reference`]).
+const MEMBERS_PER_BYTE: usize = 8;
+
+/// A set or type name for a message: at most 40 characters, control characters and the
+/// replacement character of bytes that are not UTF-8 shown as '?'.
+fn short_set_name(name: &str) -> String {
+    let mut s: String = name
+        .chars()
+        .take(40)
+        .map(|c| {
+            if c.is_control() || c == '\u{fffd}' {
+                '?'
+            } else {
+                c
+            }
+        })
+        .collect();
+    if name.chars().nth(40).is_some() {
+        s.push_str("...");
+    }
+    s
+}
+
 /// Include nesting limit.
 const MAX_INCLUDE_DEPTH: usize = 32;
+/// Limit on the number of included files read in all (the same file counts each time): files
+/// that include each other several times would otherwise multiply the work at every level.
+const MAX_INCLUDES: usize = 10_000;
+
+/// A file name from the deck for a message: quoted, control and non-ASCII characters escaped,
+/// and of a long name only its last 57 characters (where the file's own name is).
+fn shown(name: &str) -> String {
+    let mut esc = String::new();
+    for c in name.chars() {
+        match c {
+            ' '..='~' => esc.push(c),
+            '\u{fffd}' => esc.push('?'),
+            _ => esc.push_str(&c.escape_default().to_string()),
+        }
+    }
+    let n = esc.chars().count();
+    if n <= 60 {
+        format!("'{esc}'")
+    } else {
+        let tail: String = esc.chars().skip(n - 57).collect();
+        format!("'...{tail}'")
+    }
+}
 
 /// Reads an Abaqus input deck. `path` names the file in errors and anchors `*INCLUDE` files.
 pub fn read(path: &Path, data: &[u8]) -> Result<Mesh, ImportError> {
@@ -316,6 +363,10 @@ struct Include {
 
 struct Reader {
     files: Vec<PathBuf>,
+    /// Bytes of the deck and the files it included so far (the budget of copied set members).
+    input_bytes: usize,
+    /// Set members (labels and ranges) copied by set names on data lines so far.
+    copied_members: usize,
     units: Vec<Unit>,
     level: Level,
     part_names: HashMap<String, usize>,
@@ -384,6 +435,8 @@ impl Reader {
     fn new() -> Reader {
         Reader {
             files: Vec::new(),
+            input_bytes: 0,
+            copied_members: 0,
             units: vec![Unit::new(UnitKind::Model, String::new(), 0, 0)],
             level: Level::Model,
             part_names: HashMap::new(),
@@ -473,6 +526,7 @@ impl Reader {
         }
 
         self.files.push(path.to_path_buf());
+        self.input_bytes = data.len();
         self.last_line = memchr::memchr_iter(b'\n', data).count()
             + usize::from(!data.is_empty() && !data.ends_with(b"\n"));
         let mut frames = vec![Frame {
@@ -543,7 +597,7 @@ impl Reader {
                     file,
                     lineno,
                     format!("*INCLUDE nested at most {MAX_INCLUDE_DEPTH} deep"),
-                    format!("'{}' at depth {}", include.target, frames.len()),
+                    format!("{} at depth {}", shown(&include.target), frames.len()),
                 ));
             }
             let not_file = resolved.exists() && !resolved.is_file();
@@ -551,16 +605,19 @@ impl Reader {
                 return Err(self.err(
                     file,
                     lineno,
-                    format!("a regular file for INPUT={}", include.target),
-                    format!("{} (a directory or device)", resolved.display()),
+                    format!("a regular file for INPUT={}", shown(&include.target)),
+                    format!(
+                        "{} (a directory or device)",
+                        shown(&resolved.display().to_string())
+                    ),
                 ));
             }
             let bytes = std::fs::read(&resolved).map_err(|e| {
                 self.err(
                     file,
                     lineno,
-                    format!("a readable file for INPUT={}", include.target),
-                    format!("{} ({e})", resolved.display()),
+                    format!("a readable file for INPUT={}", shown(&include.target)),
+                    format!("{} ({e})", shown(&resolved.display().to_string())),
                 )
             })?;
             let canonical = std::fs::canonicalize(&resolved).ok();
@@ -570,13 +627,25 @@ impl Reader {
                         file,
                         lineno,
                         "an *INCLUDE that does not include a file being read (no cycle)",
-                        format!("'{}', which is already being read", resolved.display()),
+                        format!(
+                            "{}, which is already being read",
+                            shown(&resolved.display().to_string())
+                        ),
                     ));
                 }
+            }
+            if self.files.len() > MAX_INCLUDES {
+                return Err(self.err(
+                    file,
+                    lineno,
+                    format!("at most {MAX_INCLUDES} *INCLUDE files read in all"),
+                    format!("another one, {}", shown(&include.target)),
+                ));
             }
             let index = u32::try_from(self.files.len())
                 .map_err(|_| self.err(file, lineno, "fewer included files", "too many"))?;
             self.files.push(resolved);
+            self.input_bytes = self.input_bytes.saturating_add(bytes.len());
             let pos = strip_bom(&bytes);
             frames.push(Frame {
                 file: index,
@@ -766,7 +835,7 @@ impl Reader {
                 let t = self.types.len();
                 self.types.push(TypeStat {
                     class: types::classify(&ty_name),
-                    name: ty_name.clone(),
+                    name: short_set_name(&ty_name),
                     count: 0,
                 });
                 self.type_index.insert(ty_name, t);
@@ -1085,7 +1154,7 @@ impl Reader {
     }
 
     /// Adds the members of the set named `name` to the current set.
-    fn set_reference(&mut self, name: &str, _file: u32, _line: usize) -> Result<(), ImportError> {
+    fn set_reference(&mut self, name: &str, file: u32, line: usize) -> Result<(), ImportError> {
         let Mode::Set {
             set,
             scope,
@@ -1099,12 +1168,34 @@ impl Reader {
         let elem = self.sets[set].elem || via_elements;
         match self.find_set(elem, name, scope, instance) {
             Some(r) => {
+                // A set named k times in a set that is named k times ... doubles at each step:
+                // the copies are limited by the size of the input.
+                let members = chunk_members(&self.sets[r].chunks);
+                let budget = self
+                    .input_bytes
+                    .saturating_mul(MEMBERS_PER_BYTE)
+                    .saturating_add(1 << 16);
+                self.copied_members = self.copied_members.saturating_add(members);
+                if self.copied_members > budget {
+                    return Err(self.err(
+                        file,
+                        line,
+                        format!(
+                            "set names on data lines that copy at most {budget} set members in \
+                             all ({MEMBERS_PER_BYTE} per byte of input)"
+                        ),
+                        format!(
+                            "set '{}' copied again ({members} members)",
+                            short_set_name(name)
+                        ),
+                    ));
+                }
                 let chunks = self.sets[r].chunks.clone();
                 let target = &mut self.sets[set].chunks;
                 if via_elements {
                     target.push(Chunk::NodesOf(chunks));
                 } else {
-                    target.extend(chunks);
+                    append_chunks(target, chunks);
                 }
             }
             None => {

@@ -37,6 +37,36 @@ pub(super) fn remap_chunks(chunks: &[Chunk], from: usize, to: usize) -> Vec<Chun
         .collect()
 }
 
+/// The number of labels and ranges in `chunks` (what copying them costs).
+pub(super) fn chunk_members(chunks: &[Chunk]) -> usize {
+    chunks
+        .iter()
+        .map(|c| match c {
+            Chunk::Labels { labels, .. } => labels.len(),
+            Chunk::Ranges { ranges, .. } => ranges.len(),
+            Chunk::NodesOf(inner) => chunk_members(inner),
+        })
+        .fold(0usize, usize::saturating_add)
+}
+
+/// Appends copied chunks, merging labels and ranges into the last chunk where the unit is the
+/// same (so that a set copied many times stays a few long lists, not many short ones).
+pub(super) fn append_chunks(chunks: &mut Vec<Chunk>, copied: Vec<Chunk>) {
+    for c in copied {
+        match c {
+            Chunk::Labels { unit, labels } => match chunks.last_mut() {
+                Some(Chunk::Labels { unit: u, labels: l }) if *u == unit => l.extend(labels),
+                _ => chunks.push(Chunk::Labels { unit, labels }),
+            },
+            Chunk::Ranges { unit, ranges } => match chunks.last_mut() {
+                Some(Chunk::Ranges { unit: u, ranges: r }) if *u == unit => r.extend(ranges),
+                _ => chunks.push(Chunk::Ranges { unit, ranges }),
+            },
+            nodes_of => chunks.push(nodes_of),
+        }
+    }
+}
+
 /// Adds a label; with `via`, to the element list of a trailing `NodesOf` chunk.
 pub(super) fn push_label(chunks: &mut Vec<Chunk>, via: bool, u: usize, label: u64) {
     if via {
@@ -85,6 +115,24 @@ pub(super) fn push_range(chunks: &mut Vec<Chunk>, via: bool, u: usize, range: [u
     });
 }
 
+/// GENERATE ranges sorted, without repeats, and with overlapping or adjacent ranges of
+/// increment 1 merged.
+fn normalised(ranges: &[[u64; 3]]) -> Vec<[u64; 3]> {
+    let mut v = ranges.to_vec();
+    v.sort_unstable_by_key(|&[first, last, step]| (step, first, last));
+    v.dedup();
+    let mut out: Vec<[u64; 3]> = Vec::with_capacity(v.len());
+    for r in v {
+        match out.last_mut() {
+            Some(prev) if r[2] == 1 && prev[2] == 1 && r[0] <= prev[1].saturating_add(1) => {
+                prev[1] = prev[1].max(r[1]);
+            }
+            _ => out.push(r),
+        }
+    }
+    out
+}
+
 /// Resolves set chunks to sorted, unique mesh indices; counts entries that name nothing.
 pub(super) fn resolve(
     units: &[Unit],
@@ -104,7 +152,20 @@ pub(super) fn resolve(
         }
     };
     let mut out: Vec<u32> = Vec::new();
+    // Overlapping GENERATE ranges and copied sets list members many times: the list is made
+    // unique whenever it grows past twice the number of nodes or elements that can be in it.
+    let bound = 2 * if elem {
+        mesh.element_count()
+    } else {
+        mesh.node_count()
+    } + 4096;
+    let mut squeeze_at = bound;
     for chunk in chunks {
+        if out.len() > squeeze_at {
+            out.sort_unstable();
+            out.dedup();
+            squeeze_at = out.len() + bound;
+        }
         match chunk {
             Chunk::Labels { unit, labels } => {
                 for &l in labels {
@@ -134,9 +195,23 @@ pub(super) fn resolve(
                     });
                     own + part
                 };
-                for &[first, last, step] in ranges {
+                // Repeated and overlapping ranges are merged first, so that each label is
+                // visited once however often the deck names it.
+                let ranges = normalised(ranges);
+                // Labels defined in the unit (and its part), sorted, made when a range is
+                // searched instead of walked.
+                let mut sorted: Option<Vec<u64>> = None;
+                // Labels walked one by one so far; past this budget ranges are searched.
+                let mut walk_left = 8 * defined as u64 + 4096;
+                for [first, last, step] in ranges {
+                    if out.len() > squeeze_at {
+                        out.sort_unstable();
+                        out.dedup();
+                        squeeze_at = out.len() + bound;
+                    }
                     let count = (last - first) / step + 1;
-                    if count <= 4 * defined as u64 + 1024 {
+                    if count <= 4 * defined as u64 + 1024 && count <= walk_left {
+                        walk_left -= count;
                         let mut l = first;
                         loop {
                             match lookup(*unit, l) {
@@ -152,33 +227,35 @@ pub(super) fn resolve(
                             }
                         }
                     } else {
-                        // A huge range: filter the labels that exist instead of walking it.
+                        // A huge range (or many): take the defined labels inside it.
+                        let labels = sorted.get_or_insert_with(|| {
+                            let mut v: Vec<u64> = Vec::new();
+                            if let Some(p) = u.part {
+                                v.extend_from_slice(if elem {
+                                    &units[p].block.elem_labels
+                                } else {
+                                    &units[p].block.node_labels
+                                });
+                            }
+                            v.extend_from_slice(if elem {
+                                &u.block.elem_labels
+                            } else {
+                                &u.block.node_labels
+                            });
+                            v.sort_unstable();
+                            v.dedup();
+                            v
+                        });
+                        let from = labels.partition_point(|&l| l < first);
                         let mut found = 0u64;
-                        let in_range = |l: u64| {
-                            l >= first && l <= last && (l - first).checked_rem(step) == Some(0)
-                        };
-                        let mut visit = |labels: &[u64]| {
-                            for &l in labels {
-                                if in_range(l) {
-                                    if let Some(i) = lookup(*unit, l) {
-                                        out.push(i);
-                                        found += 1;
-                                    }
+                        for &l in labels[from..].iter().take_while(|&&l| l <= last) {
+                            if (l - first) % step == 0 {
+                                if let Some(i) = lookup(*unit, l) {
+                                    out.push(i);
+                                    found += 1;
                                 }
                             }
-                        };
-                        if let Some(p) = u.part {
-                            visit(if elem {
-                                &units[p].block.elem_labels
-                            } else {
-                                &units[p].block.node_labels
-                            });
                         }
-                        visit(if elem {
-                            &u.block.elem_labels
-                        } else {
-                            &u.block.node_labels
-                        });
                         let lost = count.saturating_sub(found);
                         *missing =
                             missing.saturating_add(usize::try_from(lost).unwrap_or(usize::MAX));

@@ -316,7 +316,10 @@ fn entity_tail(enc: Enc, dim: u8, i: &[u8]) -> PResult<'_, Vec<i64>> {
         i = r;
     }
     let (i, np) = size_t(enc, "the number of physical tags of the entity").parse_complete(i)?;
-    let (i, phys) = collect_count(i, np, int(enc, "a physical tag"))?;
+    let (i, mut phys) = collect_count(i, np, int(enc, "a physical tag"))?;
+    // A tag listed twice would add the entity's elements to its group twice per block.
+    phys.sort_unstable();
+    phys.dedup();
     let i = if dim > 0 {
         let (i, nb) =
             size_t(enc, "the number of bounding entities of the entity").parse_complete(i)?;

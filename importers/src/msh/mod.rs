@@ -183,6 +183,7 @@ impl<'a> Ctx<'a> {
             )?;
             let body = cur.p;
             let name_str = String::from_utf8_lossy(name).into_owned();
+            let shown = short_name(&name_str).into_owned();
             pos = match name {
                 b"MeshFormat" => self.mesh_format(at, body)?,
                 b"Comments" => skip_section(data, at, body, &name_str)?,
@@ -190,14 +191,14 @@ impl<'a> Ctx<'a> {
                     return Err(fail(
                         at,
                         "a Gmsh MSH 2 or 4.1 file ($MeshFormat)",
-                        format!("${name_str}, an MSH 1 file (not supported; save as MSH 4.1)"),
+                        format!("${shown}, an MSH 1 file (not supported; save as MSH 4.1)"),
                     ))
                 }
                 _ if name.starts_with(b"End") => {
                     return Err(fail(
                         at,
                         "a section header such as $Nodes",
-                        format!("'${name_str}' without its opening section"),
+                        format!("'${shown}' without its opening section"),
                     ))
                 }
                 b"PhysicalNames" => self.physical_names(body)?,
@@ -210,13 +211,16 @@ impl<'a> Ctx<'a> {
                         return Err(fail(
                             at,
                             "$MeshFormat before the mesh data",
-                            format!("${name_str}"),
+                            format!("${shown}"),
                         ));
                     };
                     self.data_section(version, name, at, body)?
                 }
                 _ => {
-                    if self.version.is_some() && !self.skipped.contains(&name_str) {
+                    if self.version.is_some()
+                        && self.skipped.len() < MAX_SKIPPED_NAMES
+                        && !self.skipped.contains(&name_str)
+                    {
                         self.skipped.push(name_str.clone());
                     }
                     skip_section(data, at, body, &name_str)?
@@ -266,7 +270,7 @@ impl<'a> Ctx<'a> {
             return Err(fail(
                 line_at,
                 "MSH version 2, 2.2 or 4.1",
-                format!("version '{shown}'"),
+                format!("version {}", crate::error::describe_found(version)),
             ));
         };
         match file_type {
@@ -407,7 +411,7 @@ impl<'a> Ctx<'a> {
             _ => {
                 // Sections of the other version ($Entities in MSH 2...): not ours to read.
                 let name_str = String::from_utf8_lossy(name).into_owned();
-                if !self.skipped.contains(&name_str) {
+                if self.skipped.len() < MAX_SKIPPED_NAMES && !self.skipped.contains(&name_str) {
                     self.skipped.push(name_str.clone());
                 }
                 return skip_section(self.data, at, body, &name_str);
@@ -559,6 +563,18 @@ fn default_name(dim: u8, tag: i64) -> String {
     format!("Physical{what}{tag}")
 }
 
+/// At most this many names of skipped sections are listed in the warning (a file of many
+/// distinct made-up sections would otherwise make the list and its search grow without end).
+const MAX_SKIPPED_NAMES: usize = 32;
+
+/// A section name for a message: at most 40 characters (a name is any run of letters).
+fn short_name(name: &str) -> Cow<'_, str> {
+    match name.char_indices().nth(40) {
+        Some((cut, _)) => Cow::Owned(format!("{}...", &name[..cut])),
+        None => Cow::Borrowed(name),
+    }
+}
+
 /// Skips a section by searching for its `$EndName` line (at the start of a line), without
 /// decoding what is in between (binary sections can hold any bytes). Returns the offset after.
 fn skip_section(data: &[u8], at: usize, body: usize, name: &str) -> Res<usize> {
@@ -570,9 +586,10 @@ fn skip_section(data: &[u8], at: usize, body: usize, name: &str) -> Res<usize> {
     loop {
         let hay = data.get(from..).unwrap_or_default();
         let Some(k) = finder.find(hay) else {
+            let name = short_name(name);
             return Err(fail(
                 at,
-                format!("{end} closing the ${name} section that starts here"),
+                format!("$End{name} closing the ${name} section that starts here"),
                 "end of file",
             ));
         };
