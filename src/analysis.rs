@@ -98,6 +98,15 @@ pub fn contact_patch(model: &Model, body: usize, strip_axis: Option<Vec3>) -> Op
         }
         inplane.norm()
     };
+    // The contact surface lies within a band along the force: as far as the loaded particles
+    // reach, plus two spacings. Surfaces deeper in the body that happen to face the same way
+    // (the inner face of a thick shell) are not part of it.
+    let height = |y: Vec3| (y - centre).dot(&direction).abs();
+    let band = (0..pd.len())
+        .filter(|&i| p[i] > 0.0)
+        .map(|i| height(x[i]))
+        .fold(0.0, f64::max)
+        + 2.0 * pd.spacing();
     let mut points = Vec::new();
     let mut peak: f64 = 0.0;
     for i in 0..pd.len() {
@@ -105,7 +114,7 @@ pub fn contact_patch(model: &Model, body: usize, strip_axis: Option<Vec3>) -> Op
             continue;
         }
         // Facing the contact: the outward normal points against the contact force.
-        if pd.case.surface.normal[i].dot(&direction) > -0.5 {
+        if pd.case.surface.normal[i].dot(&direction) > -0.5 || height(x[i]) > band {
             continue;
         }
         peak = peak.max(p[i]);
@@ -210,6 +219,43 @@ pub fn elliptic_accuracy(patch: &ContactPatch, a: f64, p0: f64) -> Accuracy {
         radius_error: fa / a - 1.0,
         fitted_radius: fa,
         fitted_peak: fp,
+        samples: inside.len(),
+    }
+}
+
+/// Sadowsky's rigid flat punch of half-width `a` under load `P` per unit length (Eq. 43):
+/// `p(x) = P / (π √(a² − x²))`, singular at the edges. Its accuracy is measured against
+/// `p0 = P/(π a)`, the pressure at the centre, over `|x| ≤ 0.8 a`.
+pub fn punch_accuracy(patch: &ContactPatch, a: f64, load_per_length: f64) -> Accuracy {
+    let p0 = load_per_length / (std::f64::consts::PI * a);
+    let theory =
+        |x: f64| load_per_length / (std::f64::consts::PI * (a * a - x * x).max(0.0).sqrt());
+    let inside: Vec<&(u32, f64, f64)> = patch
+        .points
+        .iter()
+        .filter(|(_, r, _)| *r <= 0.8 * a)
+        .collect();
+    let mre = if inside.is_empty() {
+        f64::NAN
+    } else {
+        inside
+            .iter()
+            .map(|(_, r, p)| (p - theory(*r)).abs())
+            .sum::<f64>()
+            / (inside.len() as f64 * p0)
+    };
+    // The loaded width: the farthest particle carrying pressure.
+    let width = patch
+        .points
+        .iter()
+        .filter(|(_, _, p)| *p > 0.0)
+        .map(|(_, r, _)| *r)
+        .fold(0.0, f64::max);
+    Accuracy {
+        mre,
+        radius_error: width / a - 1.0,
+        fitted_radius: width,
+        fitted_peak: patch.peak,
         samples: inside.len(),
     }
 }

@@ -60,8 +60,10 @@ pub struct PdBody {
     pub stiffness: Vec<f64>,
     /// `ρ V_i`.
     pub mass: Vec<f64>,
-    /// Fixed components per particle.
+    /// Fixed components per particle (supports and symmetry planes).
     pub fixed: Vec<FixMask>,
+    /// The components of `fixed` that symmetry planes hold (not supports).
+    pub symmetric: Vec<FixMask>,
     /// Applied force per particle, N.
     pub load: Vec<Vec3>,
     /// Displacement.
@@ -122,7 +124,7 @@ impl PdBody {
             }
         }
         // Particles on a symmetry plane cannot move across it.
-        let fixed = (0..n)
+        let fixed: Vec<FixMask> = (0..n)
             .map(|i| {
                 case.ghosts
                     .planes
@@ -135,8 +137,10 @@ impl PdBody {
         let mut reference = Vec::new();
         case.ghosts
             .extend_positions(&case.particles.position, &mut reference);
+        let symmetric: Vec<FixMask> = fixed.clone();
         PdBody {
             name: name.to_string(),
+            symmetric,
             kinematics: Kinematics::Finite,
             reference,
             micromodulus: c,

@@ -13,7 +13,8 @@
 //! * **narrow phase** ([`project`]): the segment and the slave are projected on the plane of
 //!   Eq. 18, the bilinear map of Eqs. 19-20 is inverted for `(r, t)` by Newton's method, and the
 //!   slave is inside when `|r|, |t| ≤ 1` (a small tolerance keeps particles on shared edges; each
-//!   slave takes the one inside segment nearest to it). The gap is
+//!   slave takes the one inside segment nearest to it among the segments that face it: their
+//!   normals oppose the slave's outward normal). The gap is
 //!   `g = (x_s − x_c(r,t)) · n_m` (Eq. 21); a slave is in contact when `g < 0` and `−g` is within
 //!   the window 0.5Δ. A slave behind a segment by more than the window is a missed contact.
 //! * **force** ([`ContactLaw`]): `F = K δ^{3/2}` along `n_m` on the slave with
@@ -26,7 +27,7 @@ use rayon::prelude::*;
 use crate::body::{Body, PdBody, RigidBody};
 use crate::discretize::Vec3;
 use crate::neighbours::CellGrid;
-use crate::scene::PenaltyLaw;
+use crate::scene::{Kinematics, PenaltyLaw};
 use crate::segments::MasterSegment;
 
 /// Skin of the Verlet list, in slave spacings.
@@ -35,6 +36,37 @@ pub const SKIN: f64 = 0.3;
 pub const WINDOW: f64 = 0.5;
 /// Tolerance on `|r|, |t| ≤ 1`.
 pub const INSIDE_TOLERANCE: f64 = 1e-6;
+/// A slave may touch a segment only if their normals oppose: `n_s · n_m < −FACING`.
+///
+/// Without it, a slave just inside the edge of a convex master (a punch's corner) is closer to
+/// the side face than to the face it pressed on, and is pushed out sideways.
+pub const FACING: f64 = 0.1;
+
+/// The slave's outward normal now: the reference normal of the eigenvalue surface detection
+/// (METHOD.md §3), turned by the rotation that takes the particle's reference neighbour
+/// centroid offset to its current one. Exact for a rigid rotation (bar one about the offset
+/// itself, which barely moves a normal that nearly opposes the offset); unchanged when the
+/// body does not turn.
+pub fn slave_normal(body: &PdBody, i: usize) -> Vec3 {
+    let n_ref = body.case.surface.normal[i];
+    if body.kinematics == Kinematics::Small {
+        return n_ref;
+    }
+    let n = body.len();
+    let (x_i, y_i) = (body.reference[i], body.position(i));
+    let (mut c0, mut c) = (Vec3::zeros(), Vec3::zeros());
+    for b in body.case.bonds.range(i) {
+        let j = body.case.bonds.partner[b] as usize;
+        if j < n {
+            c0 += body.reference[j] - x_i;
+            c += body.position(j) - y_i;
+        }
+    }
+    match nalgebra::Rotation3::rotation_between(&c0, &c) {
+        Some(r) if c0.norm() > 0.0 && c.norm() > 0.0 => r * n_ref,
+        _ => n_ref,
+    }
+}
 
 /// The penalty law of a pair.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -479,9 +511,14 @@ impl ContactPass {
                     self.verlet.offsets[k + 1] as usize,
                 );
                 let mut best: Option<(u32, Projection)> = None;
+                let mut normal: Option<Vec3> = None;
                 for &seg in &self.verlet.candidates[a..b] {
                     let x = view.corners(seg as usize);
                     if let Some(pr) = project(p, x, segs[seg as usize].is_triangle()) {
+                        let n_s = *normal.get_or_insert_with(|| slave_normal(sb, s as usize));
+                        if n_s.dot(&pr.normal) >= -FACING {
+                            continue;
+                        }
                         if best
                             .as_ref()
                             .is_none_or(|(_, b)| pr.gap.abs() < b.gap.abs())

@@ -39,6 +39,7 @@ pub mod scene;
 pub mod segments;
 pub mod solver;
 pub mod surface;
+pub mod validate;
 pub mod vtk;
 
 pub use error::{Error, Result};

@@ -65,6 +65,27 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Validate against theory: Hertz sphere and roller, Sadowsky punch (paper and hertz sets).
+    Validate {
+        /// sphere, roller, punch or all.
+        #[arg(long, default_value = "all")]
+        case: String,
+        /// paper, hertz or all.
+        #[arg(long, default_value = "hertz")]
+        set: String,
+        /// Run a convergence study of the sphere instead: spacing, horizon or timestep.
+        #[arg(long)]
+        study: Option<String>,
+        /// Output folder (one subfolder per run).
+        #[arg(short, long, default_value = "pdcontact-validate")]
+        output: PathBuf,
+        /// Print the rows as JSON on stdout.
+        #[arg(long)]
+        json: bool,
+        /// No progress on stderr.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Run a scene file: frames for ParaView and summary.json in the output folder.
     Run {
         /// The scene (TOML).
@@ -148,6 +169,39 @@ fn run(cli: Cli) -> Result<(), Error> {
                 print!("{}", report.to_text());
             }
             Ok(())
+        }
+        Command::Validate {
+            case,
+            set,
+            study,
+            output,
+            json,
+            quiet,
+        } => {
+            let selection = match study {
+                Some(s) => pdcontact::validate::run_study(
+                    pdcontact::validate::Study::parse(&s)?,
+                    &output,
+                    quiet,
+                )?,
+                None => pdcontact::validate::run_selection(&case, &set, &output, quiet)?,
+            };
+            if json {
+                println!("{}", to_json(&selection.rows));
+            } else {
+                print!("{}", pdcontact::validate::table(&selection.rows));
+            }
+            for f in &selection.failures {
+                eprintln!("error: {f}");
+            }
+            if selection.failures.is_empty() {
+                Ok(())
+            } else {
+                Err(pdcontact::Error::numerical(format!(
+                    "{} of the validation cases failed",
+                    selection.failures.len()
+                )))
+            }
         }
         Command::Run {
             scene,

@@ -44,6 +44,17 @@ pub fn contact_pressure(model: &Model, body: usize) -> Vec<f64> {
         .collect()
 }
 
+/// A frame file this writer makes: `particles_` or `segments_`, six or more digits, `.vtu`.
+fn is_frame_name(name: &str) -> bool {
+    let Some(stem) = name.strip_suffix(".vtu") else {
+        return false;
+    };
+    let digits = stem
+        .strip_prefix("particles_")
+        .or_else(|| stem.strip_prefix("segments_"));
+    digits.is_some_and(|d| d.len() >= 6 && d.bytes().all(|b| b.is_ascii_digit()))
+}
+
 /// Writes the frames of a run.
 pub struct FrameWriter {
     folder: PathBuf,
@@ -54,9 +65,20 @@ pub struct FrameWriter {
 }
 
 impl FrameWriter {
-    /// A writer into `folder` (created if missing).
+    /// A writer into `folder` (created if missing). Frames of an earlier run in the folder
+    /// (`particles_NNNNNN.vtu`, `segments_NNNNNN.vtu`) are removed, so that the folder never
+    /// mixes two runs; other files are left alone.
     pub fn new(folder: &Path, every: usize) -> Result<FrameWriter> {
         std::fs::create_dir_all(folder).map_err(|e| Error::output(folder, e))?;
+        let entries = std::fs::read_dir(folder).map_err(|e| Error::output(folder, e))?;
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let Some(name) = name.to_str() else { continue };
+            if is_frame_name(name) {
+                let path = entry.path();
+                std::fs::remove_file(&path).map_err(|e| Error::output(&path, e))?;
+            }
+        }
         Ok(FrameWriter {
             folder: folder.to_path_buf(),
             every: every.max(1),
@@ -227,5 +249,21 @@ impl Monitor for RunMonitor {
 
     fn interrupted(&self) -> bool {
         self.stop.load(Ordering::Relaxed)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::is_frame_name;
+
+    #[test]
+    fn only_frame_files_are_recognised() {
+        assert!(is_frame_name("particles_000120.vtu"));
+        assert!(is_frame_name("segments_1234567.vtu"));
+        assert!(!is_frame_name("particles_12.vtu"));
+        assert!(!is_frame_name("particles_00012a.vtu"));
+        assert!(!is_frame_name("my_particles_000120.vtu"));
+        assert!(!is_frame_name("particles_000120.vtu.bak"));
+        assert!(!is_frame_name("run.pvd"));
     }
 }

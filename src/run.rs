@@ -54,7 +54,8 @@ pub struct RunSummary {
     pub total_contact_force: [f64; 3],
     /// Sum of the applied loads, N.
     pub applied_load: [f64; 3],
-    /// `|Σ applied + Σ support reactions| / |Σ applied|`: the net out-of-balance force.
+    /// `|Σ applied + Σ support reactions| / |Σ applied|`: the net out-of-balance force (along the
+    /// axes that no symmetry plane cuts).
     pub force_balance_error: f64,
     /// Radius of a least-squares fit of `p0 √(1 − (r/a)²)` to the largest contact patch, m.
     pub contact_radius: f64,
@@ -72,6 +73,8 @@ pub fn force_balance(model: &Model) -> (Vec3, Vec3, f64) {
     let mut contact = Vec3::zeros();
     let mut reactions = Vec3::zeros();
     let mut has_rigid = false;
+    // Axes normal to a symmetry plane: the model's net force there is balanced by its images.
+    let mut cut = [false; 3];
     for b in &model.bodies {
         match b {
             Body::Rigid(rb) => {
@@ -86,13 +89,19 @@ pub fn force_balance(model: &Model) -> (Vec3, Vec3, f64) {
                 }
             }
             Body::Deformable(pd) => {
-                // Constraint reactions: the force the fixed components do not let move.
-                for (f, &m) in pd.force.iter().zip(&pd.fixed) {
+                // Support reactions: the force the fixed components do not let move. Symmetry
+                // planes are not supports: they carry the force between the model and its
+                // mirror images.
+                for ((f, &m), &s) in pd.force.iter().zip(&pd.fixed).zip(&pd.symmetric) {
+                    let support = m & !s;
                     for a in 0..3 {
-                        if m & (1 << a) != 0 {
+                        if support & (1 << a) != 0 {
                             reactions[a] -= f[a];
                         }
                     }
+                }
+                for plane in &pd.case.ghosts.planes {
+                    cut[plane.axis] = true;
                 }
             }
         }
@@ -102,8 +111,14 @@ pub fn force_balance(model: &Model) -> (Vec3, Vec3, f64) {
             contact += p.contacts.iter().map(|c| c.force).sum::<Vec3>();
         }
     }
+    let mut net = applied + reactions;
+    for a in 0..3 {
+        if cut[a] {
+            net[a] = 0.0;
+        }
+    }
     let error = if applied.norm() > 0.0 {
-        (applied + reactions).norm() / applied.norm()
+        net.norm() / applied.norm()
     } else {
         0.0
     };

@@ -71,6 +71,10 @@ pub struct SolverSpec {
     pub safety: Option<f64>,
     /// Explicit: simulated time in seconds.
     pub end_time: Option<f64>,
+    /// Explicit: mass-proportional damping rate `c` in 1/s (velocities decay as `e^{−c t}`;
+    /// default 0, no damping). With it an explicit run settles to the static state, which is
+    /// how a quasi-static contact is solved explicitly.
+    pub damping: Option<f64>,
     /// Explicit: stop when the contact force has fallen back to zero after a contact.
     #[serde(default)]
     pub stop_after_rebound: bool,

@@ -555,6 +555,16 @@ pub fn explicit(
             "no usable time step (stable estimate {stable:.3e} s)"
         )));
     }
+    let damping = spec.damping.unwrap_or(0.0);
+    if !(damping >= 0.0 && damping.is_finite()) {
+        return Err(Error::input(format!(
+            "solver.damping must be a finite rate >= 0 (1/s), got {damping}"
+        )));
+    }
+    // Velocities are scaled by this once a step; the kinetic energy it removes is booked as
+    // dissipated so that the energy balance still holds.
+    let decay = (-damping * dt).exp();
+    let mut dissipated = 0.0;
     let steps = (end / dt).ceil() as usize;
     let mut stats = RunStats {
         solver: "explicit".into(),
@@ -628,6 +638,13 @@ pub fn explicit(
                 Body::Rigid(_) => {}
             }
         }
+        if damping > 0.0 {
+            for pd in model.bodies.iter_mut().filter_map(Body::as_pd_mut) {
+                let before = pd.kinetic_energy();
+                pd.v.iter_mut().for_each(|v| *v *= decay);
+                dissipated += before * (1.0 - decay * decay);
+            }
+        }
         let t = step as f64 * dt;
         stats.iterations = step;
         stats.time = t;
@@ -676,7 +693,7 @@ pub fn explicit(
         if step.is_multiple_of(check_every) || step == steps {
             let (phys, work) = energies(model);
             e_scale = e_scale.max(phys.abs());
-            let total = phys - work - rigid_work;
+            let total = phys - work - rigid_work + dissipated;
             if step == check_every && e0 == 0.0 {
                 e0 = total;
             }

@@ -1,0 +1,85 @@
+//! Small versions of the validation cases (`pdcontact validate`, docs/VALIDATION.md): each runs
+//! in seconds and must reach the accuracy its size reaches, so that a change that costs
+//! accuracy fails here. The figures are measured against theory (Hertz, Sadowsky); the
+//! bounds sit a little above what these sizes measure (the numbers beside each bound).
+
+use std::path::PathBuf;
+
+use pdcontact::validate::{
+    hertz_punch_case, hertz_roller_case, hertz_sphere_case, run_case, sphere_cap_case,
+    ValidationRow, STIFF_PENALTY,
+};
+
+const ADR: &str = "kind = \"adr\"\ntolerance = 1e-5";
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "pdcontact-validation-{name}-{}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn run(case: pdcontact::validate::ValidationCase, name: &str) -> ValidationRow {
+    let dir = temp_dir(name);
+    let rows = run_case(&case, &dir, true).expect("validation case runs");
+    let row = rows.into_iter().next().expect("one row");
+    eprintln!(
+        "{name}: {} particles, MRE {:.2} %, radius {:+.2} %, balance {:.1e}, {} iterations",
+        row.particles,
+        100.0 * row.mre,
+        100.0 * row.radius_error,
+        row.force_balance_error,
+        row.iterations
+    );
+    assert!(row.output_pvd.exists(), "the run's .pvd is written");
+    assert!(row.chart.exists(), "the pressure chart is written");
+    let _ = std::fs::remove_dir_all(&dir);
+    row
+}
+
+#[test]
+fn hertz_sphere_at_five_particles_across_the_contact_radius() {
+    // Measured: MRE 4.12 %, radius error +1.69 %.
+    let row = run(hertz_sphere_case(5.0), "sphere");
+    assert!(row.mre < 0.05, "MRE {}", row.mre);
+    assert!(row.radius_error.abs() < 0.03, "radius {}", row.radius_error);
+    assert!(row.force_balance_error < 1e-3);
+}
+
+#[test]
+fn hertz_roller_at_five_particles_across_the_half_width() {
+    // Measured: MRE 2.14 %, half-width error +1.29 %.
+    let row = run(hertz_roller_case(5.0), "roller");
+    assert!(row.mre < 0.03, "MRE {}", row.mre);
+    assert!(
+        row.radius_error.abs() < 0.025,
+        "half-width {}",
+        row.radius_error
+    );
+    assert!(row.force_balance_error < 1e-3);
+}
+
+#[test]
+fn sadowsky_punch_at_eight_particles_across_the_half_width() {
+    // Measured: MRE 5.15 %.
+    let row = run(hertz_punch_case(8.0), "punch");
+    assert!(row.mre < 0.065, "MRE {}", row.mre);
+    assert!(row.force_balance_error < 1e-3);
+}
+
+#[test]
+fn sphere_error_falls_as_the_spacing_is_refined() {
+    // The coarse end of `validate --study spacing` (a/R = 0.3): Δ = 0.12 m and 0.08 m
+    // (measured 5.15 % and 1.31 %).
+    let coarse = run(
+        sphere_cap_case(0.3, 0.12, 3.0, ADR, STIFF_PENALTY, "c"),
+        "coarse",
+    );
+    let fine = run(
+        sphere_cap_case(0.3, 0.08, 3.0, ADR, STIFF_PENALTY, "f"),
+        "fine",
+    );
+    assert!(fine.mre < coarse.mre, "{} !< {}", fine.mre, coarse.mre);
+}
