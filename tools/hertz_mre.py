@@ -1,0 +1,80 @@
+#!/usr/bin/env python3
+"""Recompute the Hertz sphere figures from the last frame of a pdcontact run.
+
+    python3 tools/hertz_mre.py RUN_DIR --load P --radius R --youngs E --poisson NU [--centre X,Y]
+
+Reads the last particles_*.vtu listed in RUN_DIR/run.pvd with VTK's own reader (pip install
+vtk) and prints the mean relative error of METHOD.md section 7: the mean of |p_i - p(r_i)| / p0
+over the surface particles that face the contact (outward normal against the contact force)
+and lie within r_i <= 0.8 a of the contact centre, loaded or not, with r measured in the
+reference configuration. --centre gives the centre in the plane (default 0,0: a model cut by
+symmetry planes through the contact). E* is that of a rigid plane, E / (1 - nu^2).
+"""
+import argparse
+import math
+import re
+import sys
+from pathlib import Path
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[1])
+    ap.add_argument("run_dir", type=Path)
+    ap.add_argument("--load", type=float, required=True, help="total load P of the whole sphere (N)")
+    ap.add_argument("--radius", type=float, required=True)
+    ap.add_argument("--youngs", type=float, required=True)
+    ap.add_argument("--poisson", type=float, required=True)
+    ap.add_argument("--centre", default="0,0")
+    args = ap.parse_args()
+    try:
+        import numpy as np
+        import vtk
+        from vtk.util.numpy_support import vtk_to_numpy
+    except ImportError:
+        sys.exit("needs Python's vtk and numpy: pip install vtk")
+
+    pvd = (args.run_dir / "run.pvd").read_text()
+    frames = re.findall(r'file="(particles_[0-9]+\.vtu)"', pvd)
+    if not frames:
+        sys.exit(f"{args.run_dir}/run.pvd lists no particle frames")
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(args.run_dir / frames[-1]))
+    reader.Update()
+    grid = reader.GetOutput()
+    data = grid.GetPointData()
+
+    def field(name):
+        return vtk_to_numpy(data.GetArray(name))
+
+    x = vtk_to_numpy(grid.GetPoints().GetData()) - field("displacement")
+    p = field("contact_pressure")
+    normal = field("normal")
+    surface = field("surface") > 0
+    force = field("contact_force").sum(axis=0)
+    direction = force / np.linalg.norm(force)
+
+    e_star = args.youngs / (1.0 - args.poisson**2)
+    a = (3.0 * args.load * args.radius / (4.0 * e_star)) ** (1.0 / 3.0)
+    p0 = 3.0 * args.load / (2.0 * math.pi * a * a)
+
+    cx, cy = (float(v) for v in args.centre.split(","))
+    loaded = p > 0
+    # The contact centre: in the plane given, at the height of the loaded particles.
+    centre = np.array([cx, cy, 0.0])
+    centre[2] = np.average(x[loaded, 2], weights=p[loaded])
+    d = x - centre
+    height = np.abs(d @ direction)
+    inplane = d - np.outer(d @ direction, direction)
+    r = np.linalg.norm(inplane, axis=1)
+    spacing = np.median(np.cbrt(field("volume")))
+    band = height[loaded].max() + 2.0 * spacing
+    facing = surface & (normal @ direction < -0.5) & (height <= band)
+    inside = facing & (r <= 0.8 * a)
+    theory = p0 * np.sqrt(np.clip(1.0 - (r[inside] / a) ** 2, 0.0, None))
+    mre = np.mean(np.abs(p[inside] - theory)) / p0
+    print(f"frame {frames[-1]}: a = {a:.5g} m, p0 = {p0:.5g} Pa, {inside.sum()} particles within 0.8a")
+    print(f"MRE = {100.0 * mre:.2f} %, peak pressure {p.max():.5g} Pa ({100.0 * (p.max() / p0 - 1.0):+.2f} % of p0)")
+
+
+if __name__ == "__main__":
+    main()
