@@ -291,3 +291,39 @@ fn references_to_missing_bodies() {
     let text = format!("{GOOD}\n[[symmetry]]\nbody = \"half\"\naxis = \"x\"\n");
     assert_error("symmetry", &text, "half", &["no body is named \"half\""]);
 }
+
+/// A hand-written Gmsh 2.2 mesh of one hex8 whose corners are listed in mirrored order: its
+/// volume is negative, which would corrupt the particle volumes.
+#[test]
+fn inverted_element_is_named() {
+    let dir = temp_dir("inverted-mesh");
+    let mesh = dir.join("inverted.msh");
+    let mut text = String::from("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n8\n");
+    let corners = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [0.0, 1.0, 1.0],
+    ];
+    for (k, c) in corners.iter().enumerate() {
+        text.push_str(&format!("{} {} {} {}\n", k + 1, c[0], c[1], c[2]));
+    }
+    text.push_str("$EndNodes\n$Elements\n1\n17 5 2 1 1 1 4 3 2 5 8 7 6\n$EndElements\n");
+    std::fs::write(&mesh, text).expect("mesh");
+    let scene = GOOD.replace(
+        "generator = { shape = \"box\", min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 0.5], spacing = 0.25 }",
+        &format!("mesh = \"{}\"", mesh.display()),
+    )
+    .replace("set = \"top\"\n", "");
+    assert_error(
+        "inverted",
+        &scene,
+        "name = \"block\"",
+        &["element 17", "hex8", "negative volume", "inverted"],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
