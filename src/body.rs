@@ -291,7 +291,8 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
         let path = scene.resolve(path);
         let format = match &spec.format {
             Some(f) => Some(Format::from_name(f).ok_or_else(|| {
-                scene.error_at(
+                scene.error_in_body(
+                    &spec.name,
                     "format",
                     &format!("unknown mesh format \"{f}\": use cdb, msh or inp"),
                 )
@@ -299,7 +300,8 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
             None => None,
         };
         if !path.exists() {
-            return Err(scene.error_at(
+            return Err(scene.error_in_body(
+                &spec.name,
                 &format!(
                     "mesh = \"{}\"",
                     spec.mesh
@@ -318,7 +320,8 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
     } else if let Some(g) = &spec.generator {
         let need = |v: Option<f64>, what: &str| {
             v.filter(|x| *x > 0.0 && x.is_finite()).ok_or_else(|| {
-                scene.error_at(
+                scene.error_in_body(
+                    &spec.name,
                     "generator",
                     &format!(
                         "body \"{}\": generator \"{}\" needs a positive {what}",
@@ -338,10 +341,10 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
             "box" => {
                 let corner = |v: &Option<Vec<f64>>| v.as_ref().filter(|v| v.len() == 3).map(|v| [v[0], v[1], v[2]]);
                 let (Some(lo), Some(hi)) = (corner(&g.min), corner(&g.max)) else {
-                    return Err(scene.error_at("generator", &format!("body \"{}\": a box needs min and max, three numbers each", spec.name)));
+                    return Err(scene.error_in_body(&spec.name, "generator", &format!("body \"{}\": a box needs min and max, three numbers each", spec.name)));
                 };
                 if (0..3).any(|k| hi[k] <= lo[k]) {
-                    return Err(scene.error_at("generator", &format!("body \"{}\": box max must exceed min on every axis", spec.name)));
+                    return Err(scene.error_in_body(&spec.name, "generator", &format!("body \"{}\": box max must exceed min on every axis", spec.name)));
                 }
                 generators::cuboid(lo, hi, need(g.spacing.or(spec.spacing), "spacing")?)
             }
@@ -349,11 +352,11 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
                 let r = need(g.radius, "radius")?;
                 let half_width = need(g.half_width, "half_width")?;
                 if half_width >= r {
-                    return Err(scene.error_at("half_width", &format!("body \"{}\": a cap's half_width must be less than its radius", spec.name)));
+                    return Err(scene.error_in_body(&spec.name, "half_width", &format!("body \"{}\": a cap's half_width must be less than its radius", spec.name)));
                 }
                 let depth = need(g.depth, "depth")?;
                 if depth >= r {
-                    return Err(scene.error_at("depth", &format!("body \"{}\": a cap's depth must be less than its radius", spec.name)));
+                    return Err(scene.error_in_body(&spec.name, "depth", &format!("body \"{}\": a cap's depth must be less than its radius", spec.name)));
                 }
                 let shape = if g.shape == "sphere_cap" {
                     generators::CapShape::Sphere(r)
@@ -364,7 +367,7 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
             }
             "plane" => return Ok(None),
             other => {
-                return Err(scene.error_at(
+                return Err(scene.error_in_body(&spec.name,
                     "shape",
                     &format!("body \"{}\": unknown generator shape \"{other}\" (sphere, cylinder, box, sphere_cap, cylinder_cap, plane)", spec.name),
                 ))
@@ -377,7 +380,11 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
         }
         m
     } else {
-        return Err(scene.error_at("name", &format!("body \"{}\" has no mesh", spec.name)));
+        return Err(scene.error_in_body(
+            &spec.name,
+            "",
+            &format!("body \"{}\" has no mesh", spec.name),
+        ));
     };
     transform(&mut mesh, spec);
     Ok(Some(mesh))
@@ -512,23 +519,39 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
             let (lo, hi) = m.bbox().unwrap_or(([0.0; 3], [0.0; 3]));
             let tol = 1e-9 * (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
             *m = clip_mesh(m, axis, s.at, s.keep != "negative", tol).map_err(|msg| {
-                scene.error_at(
+                scene.error_in_body(
+                    &spec.name,
                     &format!("axis = \"{}\"", s.axis),
                     &format!("body \"{}\": {msg}", spec.name),
                 )
             })?;
+            if spec.kind == BodyKind::Deformable && m.solids().next().is_none() {
+                return Err(scene.error_in_body(
+                    &spec.name,
+                    "",
+                    &format!(
+                        "body \"{}\" has no particles: the symmetry plane {} = {} (keep = \"{}\") leaves none of its elements",
+                        spec.name, s.axis, s.at, s.keep
+                    ),
+                ));
+            }
         }
     }
     match spec.kind {
         BodyKind::Deformable => {
             let Some(mesh) = mesh else {
-                return Err(scene.error_at(
+                return Err(scene.error_in_body(
+                    &spec.name,
                     "plane",
                     &format!("body \"{}\": a plane can only be rigid", spec.name),
                 ));
             };
             let m = spec.material.ok_or_else(|| {
-                scene.error_at("name", &format!("body \"{}\" needs a material", spec.name))
+                scene.error_in_body(
+                    &spec.name,
+                    "",
+                    &format!("body \"{}\" needs a material", spec.name),
+                )
             })?;
             let symmetry = scene
                 .symmetries
@@ -553,14 +576,16 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
             };
             let case = PdCase::build(mesh, options).map_err(|e| match e {
                 Error::Input(msg) => {
-                    Error::input(format!("{}: body \"{}\": {msg}", scene.source, spec.name))
+                    scene.error_in_body(&spec.name, "", &format!("body \"{}\": {msg}", spec.name))
                 }
                 other => other,
             })?;
             if case.particles.is_empty() {
-                return Err(
-                    scene.error_at("name", &format!("body \"{}\" has no particles", spec.name))
-                );
+                return Err(scene.error_in_body(
+                    &spec.name,
+                    "",
+                    &format!("body \"{}\" has no particles", spec.name),
+                ));
             }
             let mut body = PdBody::new(
                 &spec.name,
@@ -583,7 +608,7 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                 None => plane_faces(scene, spec)?,
             };
             if faces.is_empty() {
-                return Err(scene.error_at(
+                return Err(scene.error_in_body(&spec.name,
                     "name",
                     &format!("rigid body \"{}\" has no faces (a mesh of 3D solids, or of shells, is needed)", spec.name),
                 ));
@@ -653,10 +678,15 @@ fn rigid_faces(mesh: &Mesh) -> (Vec<Vec3>, Vec<MasterSegment>) {
 /// A square patch of `divisions²` quads centred at `point`, facing `normal`.
 fn plane_faces(scene: &Scene, spec: &BodySpec) -> Result<(Vec<Vec3>, Vec<MasterSegment>)> {
     let Some(g) = &spec.generator else {
-        return Err(scene.error_at("name", &format!("body \"{}\" has no surface", spec.name)));
+        return Err(scene.error_in_body(
+            &spec.name,
+            "",
+            &format!("body \"{}\" has no surface", spec.name),
+        ));
     };
     let (Some(point), Some(normal), Some(size)) = (g.point, g.normal, g.size) else {
-        return Err(scene.error_at(
+        return Err(scene.error_in_body(
+            &spec.name,
             "plane",
             &format!(
                 "body \"{}\": a plane needs point, normal and size",
@@ -666,7 +696,8 @@ fn plane_faces(scene: &Scene, spec: &BodySpec) -> Result<(Vec<Vec3>, Vec<MasterS
     };
     let n = Vec3::from(normal);
     if !(n.norm() > 0.0) || !(size > 0.0) {
-        return Err(scene.error_at(
+        return Err(scene.error_in_body(
+            &spec.name,
             "plane",
             &format!(
                 "body \"{}\": plane normal and size must be non-zero",

@@ -106,7 +106,31 @@ fn parse_format(s: &str) -> Result<Format, String> {
     Format::from_name(s).ok_or_else(|| format!("unknown format '{s}': use cdb, msh or inp"))
 }
 
-fn run(cli: Cli) -> Result<(), Error> {
+/// Exit code of a run stopped by Ctrl-C or SIGTERM (128 + SIGINT, as shells report Ctrl-C).
+const EXIT_INTERRUPTED: u8 = 130;
+
+/// How a command ended without an error.
+enum Outcome {
+    Done,
+    /// A run stopped by Ctrl-C or SIGTERM: its frames so far are complete and listed.
+    Interrupted,
+}
+
+fn interrupted(summary: &pdcontact::run::RunSummary) -> Outcome {
+    if summary.interrupted {
+        eprintln!(
+            "interrupted at step {}: frames so far in {}, summary in {}",
+            summary.iterations,
+            summary.outputs.pvd.display(),
+            summary.outputs.summary.display()
+        );
+        Outcome::Interrupted
+    } else {
+        Outcome::Done
+    }
+}
+
+fn run(cli: Cli) -> Result<Outcome, Error> {
     match cli.command {
         Command::Inspect { file, format, json } => {
             let data = std::fs::read(&file).map_err(|e| {
@@ -127,7 +151,7 @@ fn run(cli: Cli) -> Result<(), Error> {
             } else {
                 print!("{}", summary.to_text(&file.display().to_string()));
             }
-            Ok(())
+            Ok(Outcome::Done)
         }
         Command::Convert {
             mesh,
@@ -150,7 +174,7 @@ fn run(cli: Cli) -> Result<(), Error> {
                 print!("{}", summary.to_text());
                 println!("wrote {}", output.display());
             }
-            Ok(())
+            Ok(Outcome::Done)
         }
         Command::Demo {
             output,
@@ -168,7 +192,7 @@ fn run(cli: Cli) -> Result<(), Error> {
             } else {
                 print!("{}", report.to_text());
             }
-            Ok(())
+            Ok(interrupted(&report.summary))
         }
         Command::Validate {
             case,
@@ -195,7 +219,7 @@ fn run(cli: Cli) -> Result<(), Error> {
                 eprintln!("error: {f}");
             }
             if selection.failures.is_empty() {
-                Ok(())
+                Ok(Outcome::Done)
             } else {
                 Err(pdcontact::Error::numerical(format!(
                     "{} of the validation cases failed",
@@ -229,7 +253,7 @@ fn run(cli: Cli) -> Result<(), Error> {
                     summary.outputs.pvd.display()
                 );
             }
-            Ok(())
+            Ok(interrupted(&summary))
         }
     }
 }
@@ -249,7 +273,8 @@ fn to_json<T: serde::Serialize>(v: &T) -> String {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(Outcome::Done) => ExitCode::SUCCESS,
+        Ok(Outcome::Interrupted) => ExitCode::from(EXIT_INTERRUPTED),
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(e.exit_code() as u8)

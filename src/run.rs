@@ -63,6 +63,8 @@ pub struct RunSummary {
     pub peak_pressure: f64,
     pub outputs: Outputs,
     pub solver: RunStats,
+    /// The run was stopped by Ctrl-C or SIGTERM before it ended.
+    pub interrupted: bool,
     /// The error that stopped the run, if any.
     pub error: Option<String>,
 }
@@ -174,6 +176,17 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
     let result = solve(&mut model, &scene.solver, &mut monitor);
     let summary_path = folder.join("summary.json");
     let (stats, error) = match result {
+        // ADR that ends without reaching the tolerance (and was not interrupted) is a failed
+        // run: the state is not an equilibrium.
+        Ok(s) if scene.solver.kind == SolverKind::Adr && !s.converged && !s.interrupted => {
+            let e = Error::numerical(format!(
+                "ADR did not converge in {} iterations (residual {:.3e}, tolerance {:.1e}); likely cause: too few iterations (raise max_iterations) or loads that the supports and contacts cannot balance",
+                s.iterations,
+                s.residual,
+                scene.solver.tolerance.unwrap_or(crate::solver::DEFAULT_TOLERANCE)
+            ));
+            (s, Some(e))
+        }
         Ok(s) => (s, None),
         Err(e) => (RunStats::default(), Some(e)),
     };
@@ -200,26 +213,14 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
             last_frame: monitor.frames.as_ref().and_then(FrameWriter::last_frame),
             summary: summary_path.clone(),
         },
+        interrupted: stats.interrupted,
         solver: stats,
         error: error.as_ref().map(ToString::to_string),
     };
     write_summary(&summary_path, &summary)?;
     match error {
         Some(e) => Err(e),
-        None => {
-            if !summary.converged
-                && scene.solver.kind == SolverKind::Adr
-                && !summary.solver.interrupted
-            {
-                return Err(Error::numerical(format!(
-                    "ADR did not converge in {} iterations (residual {:.3e}, tolerance {:.1e}); raise max_iterations or check the loads and supports",
-                    summary.iterations,
-                    summary.residual,
-                    scene.solver.tolerance.unwrap_or(crate::solver::DEFAULT_TOLERANCE)
-                )));
-            }
-            Ok((model, summary))
-        }
+        None => Ok((model, summary)),
     }
 }
 

@@ -344,6 +344,10 @@ impl Scene {
         }
         for (k, b) in self.bodies.iter().enumerate() {
             let key = format!("name = \"{}\"", b.name);
+            let err = |needle: &str, msg: String| {
+                let (l, c) = locate_in_body(text, &b.name, needle);
+                Error::input(format!("{}:{l}:{c}: {msg}", self.source))
+            };
             if self.bodies[..k].iter().any(|o| o.name == b.name) {
                 return Err(err(&key, format!("two bodies are named \"{}\"", b.name)));
             }
@@ -391,11 +395,13 @@ impl Scene {
                 }
             }
             if let Some(m) = &b.material {
-                if !(m.youngs_modulus > 0.0) || !(m.density > 0.0) {
-                    return Err(err(
-                        "youngs_modulus",
-                        format!("body \"{}\": material constants must be positive", b.name),
-                    ));
+                for (what, v) in [("youngs_modulus", m.youngs_modulus), ("density", m.density)] {
+                    if !(v > 0.0 && v.is_finite()) {
+                        return Err(err(
+                            what,
+                            format!("body \"{}\": {what} must be positive, got {v}", b.name),
+                        ));
+                    }
                 }
             }
             for (what, v) in [
@@ -541,6 +547,13 @@ impl Scene {
         Error::input(format!("{}:{l}:{c}: {msg}", self.source))
     }
 
+    /// An input error at the first place `needle` appears in the `[[body]]` named `body`
+    /// (from its `name` line on); an empty needle points at the `name` line itself.
+    pub fn error_in_body(&self, body: &str, needle: &str, msg: &str) -> Error {
+        let (l, c) = locate_in_body(&self.text, body, needle);
+        Error::input(format!("{}:{l}:{c}: {msg}", self.source))
+    }
+
     /// A path of the scene, resolved against the scene's folder.
     pub fn resolve(&self, p: &Path) -> PathBuf {
         if p.is_absolute() {
@@ -560,6 +573,36 @@ fn line_col(text: &str, offset: usize) -> (usize, usize) {
         .map_or(before.len(), |p| before.len() - p - 1)
         + 1;
     (line, col)
+}
+
+/// Byte offset of the line `name = "<body>"` (any spacing around `=`).
+fn body_offset(text: &str, body: &str) -> Option<usize> {
+    let quoted = format!("\"{body}\"");
+    let mut offset = 0;
+    for line in text.split_inclusive('\n') {
+        let t = line.trim_start();
+        if let Some(rest) = t.strip_prefix("name") {
+            if let Some(value) = rest.trim_start().strip_prefix('=') {
+                if value.trim().starts_with(&quoted) {
+                    return Some(offset + (line.len() - t.len()));
+                }
+            }
+        }
+        offset += line.len();
+    }
+    None
+}
+
+/// Line and column of `needle` at or after the body's `name` line (that line itself for an
+/// empty needle; the first occurrence anywhere when the body's line is not found).
+fn locate_in_body(text: &str, body: &str, needle: &str) -> (usize, usize) {
+    let Some(start) = body_offset(text, body) else {
+        return locate(text, needle);
+    };
+    match text[start..].find(needle) {
+        Some(p) => line_col(text, start + p),
+        None => line_col(text, start),
+    }
 }
 
 /// Line and column of the first occurrence of `needle` (1, 1 when absent or empty).

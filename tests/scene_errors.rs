@@ -1,0 +1,329 @@
+//! Scene files that cannot be used: `pdcontact run` exits with 2 and one line
+//! `FILE:LINE:COL: message` that points at the place in the scene and says what is wrong.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pdcontact-scene-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+fn sphere_mesh() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("meshes/sphere_r1_d012.msh")
+        .display()
+        .to_string()
+}
+
+/// A small runnable scene: a box pressed on a rigid plane.
+const GOOD: &str = r#"[solver]
+kind = "adr"
+max_iterations = 20000
+
+[output]
+every = 100000
+
+[[body]]
+name = "block"
+generator = { shape = "box", min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 0.5], spacing = 0.25 }
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+
+[[body]]
+name = "floor"
+kind = "rigid"
+generator = { shape = "plane", point = [0.0, 0.0, -0.01], normal = [0.0, 0.0, 1.0], size = 3.0 }
+
+[[load]]
+body = "block"
+set = "top"
+force = [0.0, 0.0, -1e5]
+
+[[contact]]
+slave = "block"
+master = "floor"
+radius = 0.5
+"#;
+
+/// Runs `pdcontact run` on `text` and returns the scene's path and the error line.
+/// Asserts exit code 2 and a single line on stderr.
+fn error_of(case: &str, text: &str) -> (String, String) {
+    let dir = temp_dir(case);
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).expect("write scene");
+    let out = Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+        .args(["run", "--quiet"])
+        .arg(&scene)
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(2), "{case}: {err}");
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 1, "{case}: not one line: {err}");
+    let _ = std::fs::remove_dir_all(&dir);
+    (scene.display().to_string(), lines[0].to_string())
+}
+
+/// 1-based line of the first line of `text` holding `needle`.
+fn line_of(text: &str, needle: &str) -> usize {
+    text.lines()
+        .position(|l| l.contains(needle))
+        .unwrap_or_else(|| panic!("{needle} not in the scene"))
+        + 1
+}
+
+/// The error names the scene, the line holding `at` (with a column), and contains `what`.
+fn assert_error(case: &str, text: &str, at: &str, what: &[&str]) {
+    let (path, line) = error_of(case, text);
+    let want = format!("error: {path}:{}:", line_of(text, at));
+    assert!(
+        line.starts_with(&want),
+        "{case}: expected {want}…, got {line}"
+    );
+    let rest = &line[want.len()..];
+    let (col, msg) = rest.split_once(": ").expect("FILE:LINE:COL: message");
+    let col: usize = col
+        .parse()
+        .unwrap_or_else(|_| panic!("{case}: no column in {line}"));
+    assert!(col >= 1, "{case}: {line}");
+    for w in what {
+        assert!(msg.contains(w), "{case}: {line} lacks {w:?}");
+    }
+}
+
+#[test]
+fn good_scene_runs() {
+    let dir = temp_dir("good");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, GOOD).expect("write scene");
+    let out = Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+        .args(["run", "--quiet", "--json"])
+        .arg(&scene)
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(s["converged"], true);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn unknown_keys() {
+    let text = GOOD.replace("youngs_modulus = 1e9", "youngs_modulis = 1e9");
+    assert_error(
+        "unknown-material",
+        &text,
+        "youngs_modulis",
+        &["youngs_modulis"],
+    );
+    let text = GOOD.replace("radius = 0.5", "radius = 0.5\nfriction = 0.3");
+    assert_error("unknown-contact", &text, "friction", &["friction"]);
+    let text = GOOD.replace("[output]", "[outputs]");
+    assert_error("unknown-table", &text, "[outputs]", &["outputs"]);
+    let text = GOOD.replace("spacing = 0.25 }", "spacing = 0.25, radious = 1.0 }");
+    assert_error("unknown-generator", &text, "radious", &["radious"]);
+}
+
+#[test]
+fn wrong_types() {
+    let text = GOOD.replace("density = 1000.0", "density = \"steel\"");
+    assert_error("type-string", &text, "density", &["string", "f64"]);
+    let text = GOOD.replace("max_iterations = 20000", "max_iterations = 2.5");
+    assert_error("type-float", &text, "max_iterations", &["float"]);
+    let text = GOOD.replace("force = [0.0, 0.0, -1e5]", "force = [0.0, -1e5]");
+    assert_error("type-length", &text, "force =", &["3"]);
+    let text = GOOD.replace("kind = \"adr\"", "kind = \"implicit\"");
+    assert_error("type-variant", &text, "implicit", &["implicit", "adr"]);
+}
+
+#[test]
+fn missing_mesh_file() {
+    let text = GOOD.replace(
+        "generator = { shape = \"box\", min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 0.5], spacing = 0.25 }",
+        "mesh = \"no_such_mesh.msh\"",
+    );
+    assert_error(
+        "missing-mesh",
+        &text,
+        "no_such_mesh.msh",
+        &["block", "no_such_mesh.msh", "does not exist"],
+    );
+}
+
+#[test]
+fn sets_that_do_not_exist() {
+    let text = GOOD.replace("set = \"top\"", "set = \"lid\"");
+    assert_error(
+        "set-generator",
+        &text,
+        "set = \"lid\"",
+        &["no set \"lid\"", "top"],
+    );
+    // A stored mesh: its physical groups are the sets.
+    let text = GOOD
+        .replace(
+            "generator = { shape = \"box\", min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 0.5], spacing = 0.25 }",
+            &format!("mesh = \"{}\"", sphere_mesh()),
+        )
+        .replace("set = \"top\"", "set = \"north_pole\"")
+        .replace("-0.01", "-1.01");
+    assert_error(
+        "set-mesh",
+        &text,
+        "north_pole",
+        &["body \"block\"", "no set \"north_pole\""],
+    );
+    // A constraint too.
+    let text = format!("{GOOD}\n[[constraint]]\nbody = \"block\"\nset = \"base\"\nfix = [\"x\"]\n");
+    assert_error(
+        "set-constraint",
+        &text,
+        "set = \"base\"",
+        &["no set \"base\""],
+    );
+}
+
+#[test]
+fn material_constants() {
+    let text = GOOD.replace("youngs_modulus = 1e9", "youngs_modulus = -1e9");
+    assert_error(
+        "negative-e",
+        &text,
+        "youngs_modulus",
+        &["youngs_modulus", "positive", "-1000000000"],
+    );
+    let text = GOOD.replace("youngs_modulus = 1e9", "youngs_modulus = 0.0");
+    assert_error(
+        "zero-e",
+        &text,
+        "youngs_modulus",
+        &["youngs_modulus", "positive"],
+    );
+    let text = GOOD.replace("density = 1000.0", "density = 0.0");
+    assert_error("zero-density", &text, "density", &["density", "positive"]);
+    let text = GOOD.replace("density = 1000.0", "density = -7800.0");
+    assert_error(
+        "negative-density",
+        &text,
+        "density",
+        &["density", "positive"],
+    );
+    let text = GOOD.replace("poisson_ratio = 0.25", "poisson_ratio = 0.3");
+    assert_error(
+        "poisson",
+        &text,
+        "poisson_ratio",
+        &["0.25", "0.3", "bond-based"],
+    );
+    // A rigid body's optional material is checked as well.
+    let text = GOOD.replace(
+        "kind = \"rigid\"",
+        "kind = \"rigid\"\nmaterial = { youngs_modulus = -2e11, poisson_ratio = 0.3, density = 7800.0 }",
+    );
+    assert_error("rigid-material", &text, "-2e11", &["floor", "positive"]);
+}
+
+#[test]
+fn bodies_without_particles() {
+    // A symmetry plane above the whole block keeps nothing of it.
+    let text = format!(
+        "{GOOD}\n[[symmetry]]\nbody = \"block\"\naxis = \"z\"\nat = 2.0\nkeep = \"positive\"\n"
+    );
+    assert_error(
+        "clipped-away",
+        &text,
+        "name = \"block\"",
+        &["block", "no particles"],
+    );
+    // The second body is the empty one: the message points at it, not at the first body.
+    let text = format!(
+        "{GOOD}\n[[body]]\nname = \"lid\"\ngenerator = {{ shape = \"box\", min = [0.0, 0.0, 1.0], max = [1.0, 1.0, 1.5], spacing = 0.25 }}\n[body.material]\nyoungs_modulus = 1e9\npoisson_ratio = 0.25\ndensity = 1000.0\n\n[[symmetry]]\nbody = \"lid\"\naxis = \"x\"\nat = 0.0\nkeep = \"negative\"\n"
+    );
+    assert_error(
+        "clipped-second",
+        &text,
+        "name = \"lid\"",
+        &["lid", "no particles"],
+    );
+}
+
+#[test]
+fn contact_pairs() {
+    let text = GOOD.replace("master = \"floor\"", "master = \"block\"");
+    assert_error(
+        "same-body",
+        &text,
+        "slave = \"block\"",
+        &["\"block\"", "both slave and master"],
+    );
+    let text = GOOD.replace("master = \"floor\"", "master = \"ground\"");
+    assert_error(
+        "contact-master",
+        &text,
+        "ground",
+        &["no body is named \"ground\""],
+    );
+    let text = GOOD.replace("slave = \"block\"", "slave = \"ball\"");
+    assert_error(
+        "contact-slave",
+        &text,
+        "ball",
+        &["no body is named \"ball\""],
+    );
+}
+
+#[test]
+fn references_to_missing_bodies() {
+    let text = GOOD.replace("body = \"block\"\nset", "body = \"brick\"\nset");
+    assert_error("load", &text, "brick", &["no body is named \"brick\""]);
+    let text =
+        format!("{GOOD}\n[[constraint]]\nbody = \"slab\"\nset = \"bottom\"\nfix = [\"z\"]\n");
+    assert_error("constraint", &text, "slab", &["no body is named \"slab\""]);
+    let text = format!("{GOOD}\n[[symmetry]]\nbody = \"half\"\naxis = \"x\"\n");
+    assert_error("symmetry", &text, "half", &["no body is named \"half\""]);
+}
+
+/// A hand-written Gmsh 2.2 mesh of one hex8 whose corners are listed in mirrored order: its
+/// volume is negative, which would corrupt the particle volumes.
+#[test]
+fn inverted_element_is_named() {
+    let dir = temp_dir("inverted-mesh");
+    let mesh = dir.join("inverted.msh");
+    let mut text = String::from("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n8\n");
+    let corners = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [0.0, 1.0, 1.0],
+    ];
+    for (k, c) in corners.iter().enumerate() {
+        text.push_str(&format!("{} {} {} {}\n", k + 1, c[0], c[1], c[2]));
+    }
+    text.push_str("$EndNodes\n$Elements\n1\n17 5 2 1 1 1 4 3 2 5 8 7 6\n$EndElements\n");
+    std::fs::write(&mesh, text).expect("mesh");
+    let scene = GOOD.replace(
+        "generator = { shape = \"box\", min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 0.5], spacing = 0.25 }",
+        &format!("mesh = \"{}\"", mesh.display()),
+    )
+    .replace("set = \"top\"\n", "");
+    assert_error(
+        "inverted",
+        &scene,
+        "name = \"block\"",
+        &["element 17", "hex8", "negative volume", "inverted"],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
