@@ -220,9 +220,6 @@ fn check_missed(model: &Model, step: usize, what: &str, dt: Option<f64>) -> Resu
     Ok(())
 }
 
-/// ADR iterations in a row with missed contacts before the run is stopped.
-pub const ADR_MISSED_PERSISTENCE: usize = 50;
-
 /// Adaptive dynamic relaxation to a static equilibrium.
 pub fn adr(
     model: &mut Model,
@@ -307,29 +304,17 @@ pub fn adr(
 
     let mut best = f64::INFINITY;
     let mut n = 0;
-    let mut missed_run = 0usize;
     loop {
         n += 1;
         model.compute_forces();
         check_finite(model, n, "iteration")?;
-        // ADR's iterations are fictitious time: a slave that overshoots the window in the
-        // transient is pulled back by its bonds. Missed contacts that persist, or remain at
-        // convergence, are a failure.
-        if model.missed_contacts() > 0 {
-            missed_run += 1;
-        } else {
-            missed_run = 0;
-        }
-        if missed_run > ADR_MISSED_PERSISTENCE {
-            check_missed(model, n, "iteration", None)?;
-        }
+        check_missed(model, n, "iteration", None)?;
         let (r, _) = residual(model);
         let rel = r / reference;
         stats.residual = rel;
         stats.iterations = n;
         best = best.min(rel);
         if rel < tolerance {
-            check_missed(model, n, "iteration", None)?;
             stats.converged = true;
             break;
         }
