@@ -9,6 +9,7 @@ use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
 use crate::contact::{hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::discretize::{Vec3, NOT_A_PARTICLE};
 use crate::error::Result;
+use crate::neighbours::BondList;
 use crate::scene::{BodyKind, Kinematics, Scene};
 
 /// Particles per parallel work item of the bond loop.
@@ -235,11 +236,11 @@ pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
         .for_each(|(c, out)| {
             for (k, f) in out.iter_mut().enumerate() {
                 let i = c * CHUNK + k;
-                let yi = pos[i];
-                let mut acc = Vec3::zeros();
-                if small {
+                let acc = if small {
                     // Eq. 26 linearised: extension along the reference bond.
+                    let yi = pos[i];
                     let xi0 = reference[i];
+                    let mut acc = Vec3::zeros();
                     for b in bonds.range(i) {
                         let j = bonds.partner[b] as usize;
                         let xi = reference[j] - xi0;
@@ -247,19 +248,36 @@ pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
                         let ext = (pos[j] - yi - xi).dot(&xi) * inv;
                         acc += xi * (w[b] * ext * inv);
                     }
+                    acc
                 } else {
-                    for b in bonds.range(i) {
-                        let j = bonds.partner[b] as usize;
-                        let y = pos[j] - yi;
-                        let l = y.norm();
-                        acc += y * (w[b] * (l - bonds.length[b]) / l);
-                    }
-                }
+                    bond_force(pos, bonds, w, i)
+                };
                 *f = acc + load[i];
             }
         });
     pd.contact_force.iter_mut().for_each(|f| *f = Vec3::zeros());
     pd.contact_stiffness.iter_mut().for_each(|k| *k = 0.0);
+}
+
+/// The bond force on particle `i` (Eq. 26 times the volumes, finite kinematics):
+/// `Σ_j w_ij (|y_ij| − L_ij) y_ij/|y_ij|` with `y_ij = pos[j] − pos[i]` and `w` the bond weights
+/// `c G v_c V_i V_j / L` of [`PdBody::bond_weight`]. The one kernel that both the solvers and
+/// `pdcontact bench` run.
+#[inline]
+pub fn bond_force(pos: &[Vec3], bonds: &BondList, w: &[f64], i: usize) -> Vec3 {
+    let yi = pos[i];
+    let range = bonds.range(i);
+    let mut acc = Vec3::zeros();
+    for ((&j, &l0), &wb) in bonds.partner[range.clone()]
+        .iter()
+        .zip(&bonds.length[range.clone()])
+        .zip(&w[range])
+    {
+        let y = pos[j as usize] - yi;
+        let l = y.norm();
+        acc += y * (wb * (l - l0) / l);
+    }
+    acc
 }
 
 /// Particles of a named set of a body's mesh (its corner nodes that are particles).
