@@ -78,13 +78,17 @@ PD="${CARGO_TARGET_DIR:-$ROOT/target}/release/pdcontact"
 
 median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 
-# One LAMMPS run: prints "loop_seconds atoms neighbours_per_atom".
+# One LAMMPS run: prints "loop_seconds atoms neighbours_per_atom energy_drift" (the drift of
+# its total energy, kinetic + PMB strain, over the run).
 lammps_once() {
     local log="$WORK/log.lammps"
     (cd "$WORK" && "$@" -in in.sphere -log "$log" >/dev/null)
-    awk '/^Loop time of/ {t=$4; n=$(NF-1)}
+    awk '/^ *Step / {thermo=1; next}
+         /^Loop time of/ {t=$4; n=$(NF-1); thermo=0}
+         thermo && $1 ~ /^[0-9]+$/ {if (e0 == "") e0=$4; e=$4}
          /^Total # of neighbors/ {nb=$NF}
-         END {printf "%s %s %.4f\n", t, n, nb/n}' "$log"
+         END {d=(e-e0)/e0; if (d<0) d=-d; printf "%s %s %.4f %.3e\n", t, n, nb/n, d}' "$log"
+    head -1 "$log" >"$WORK/version"
 }
 
 # One pdcontact run: prints "loop_seconds particles bonds_per_particle energy_drift".
@@ -93,7 +97,7 @@ pd_once() {
         python3 -c 'import json,sys; r=json.load(sys.stdin); print(r["loop_seconds"], r["particles"], "%.4f" % r["bonds_per_particle"], r["energy_drift"])'
 }
 
-declare -A LOOP COUNT PARTNERS
+declare -A LOOP COUNT PARTNERS DRIFT
 measure() {
     local key=$1; shift
     local times=() line
@@ -103,12 +107,13 @@ measure() {
         times+=("$(echo "$line" | cut -d' ' -f1)")
         COUNT[$key]=$(echo "$line" | cut -d' ' -f2)
         PARTNERS[$key]=$(echo "$line" | cut -d' ' -f3)
+        DRIFT[$key]=$(echo "$line" | cut -d' ' -f4)
     done
     LOOP[$key]=$(printf '%s\n' "${times[@]}" | median)
 }
 
-echo "LAMMPS: $LMP ($($LMP -h 2>/dev/null | awk '/^Large-scale/ {getline; print; exit}' || true))" >&2
 measure lammps_1 lammps_once "$LMP"
+echo "LAMMPS: $LMP, $(cat "$WORK/version")" >&2
 if [ -n "$MPIRUN" ]; then
     measure lammps_2 lammps_once "$MPIRUN" --allow-run-as-root --oversubscribe -np 2 "$LMP"
 fi
@@ -143,4 +148,5 @@ echo
 echo "ratios: pdcontact 1 thread / LAMMPS 1 rank = $(awk -v a="${LOOP[lammps_1]}" -v b="${LOOP[pd_1]}" 'BEGIN {printf "%.2f", a/b}')x;" \
     "pdcontact 2 threads / LAMMPS 2 ranks = $(awk -v a="${LOOP[lammps_2]:-nan}" -v b="${LOOP[pd_2]}" 'BEGIN {printf "%.2f", a/b}')x;" \
     "pdcontact 2-thread speed-up = $(awk -v a="${LOOP[pd_1]}" -v b="${LOOP[pd_2]}" 'BEGIN {printf "%.2f", a/b}')x"
+echo "relative energy drift over the run: LAMMPS ${DRIFT[lammps_1]}, pdcontact ${DRIFT[pd_1]}"
 exit $status
