@@ -265,19 +265,47 @@ pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
 /// `pdcontact bench` run.
 #[inline]
 pub fn bond_force(pos: &[Vec3], bonds: &BondList, w: &[f64], i: usize) -> Vec3 {
+    // Bonds go in groups of LANES with the partners gathered into plain arrays, so that the
+    // square roots and divisions, which bound the loop, run as packed SIMD instructions.
+    const LANES: usize = 4;
     let yi = pos[i];
     let range = bonds.range(i);
-    let mut acc = Vec3::zeros();
-    for ((&j, &l0), &wb) in bonds.partner[range.clone()]
-        .iter()
-        .zip(&bonds.length[range.clone()])
-        .zip(&w[range])
-    {
+    let partner = &bonds.partner[range.clone()];
+    let length = &bonds.length[range.clone()];
+    let w = &w[range];
+    let mut acc = [[0.0f64; LANES]; 3];
+    let groups = partner
+        .chunks_exact(LANES)
+        .zip(length.chunks_exact(LANES))
+        .zip(w.chunks_exact(LANES));
+    for ((p, l0), wb) in groups {
+        let mut d = [[0.0f64; LANES]; 3];
+        for k in 0..LANES {
+            let y = pos[p[k] as usize] - yi;
+            d[0][k] = y.x;
+            d[1][k] = y.y;
+            d[2][k] = y.z;
+        }
+        for k in 0..LANES {
+            let l = (d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k]).sqrt();
+            let s = wb[k] * (l - l0[k]) / l;
+            for a in 0..3 {
+                acc[a][k] += d[a][k] * s;
+            }
+        }
+    }
+    let mut f = Vec3::new(
+        acc[0].iter().sum(),
+        acc[1].iter().sum(),
+        acc[2].iter().sum(),
+    );
+    let tail = partner.len() - partner.len() % LANES;
+    for ((&j, &l0), &wb) in partner[tail..].iter().zip(&length[tail..]).zip(&w[tail..]) {
         let y = pos[j as usize] - yi;
         let l = y.norm();
-        acc += y * (wb * (l - l0) / l);
+        f += y * (wb * (l - l0) / l);
     }
-    acc
+    f
 }
 
 /// Particles of a named set of a body's mesh (its corner nodes that are particles).
