@@ -14,6 +14,7 @@
 //! | the assembled PD case | [`case`] |
 //! | VTK output | [`vtk`] |
 //! | `convert` | [`convert`] |
+//! | `bench`: the bond-force kernel on LAMMPS's comparison problem | [`bench`] |
 
 // `!(x > 0.0)` is the NaN-rejecting test the numerics want (a NaN must fail the check), and
 // index loops over several parallel arrays read better than zipped iterators here.
@@ -22,6 +23,7 @@
 pub use pdcontact_importers as importers;
 
 pub mod analysis;
+pub mod bench;
 pub mod body;
 pub mod case;
 pub mod contact;

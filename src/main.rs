@@ -86,6 +86,25 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Time the bond-force kernel on the LAMMPS peri/pmb comparison problem: a sphere
+    /// (R = 1 m) of simple cubic lattice points, explicit velocity Verlet.
+    Bench {
+        /// Lattice spacing Δ in metres (0.04 gives 65,267 particles).
+        #[arg(long, value_name = "DX")]
+        lattice_sphere: f64,
+        /// Horizon factor m (δ = m·Δ); 3.0002 keeps bonds of length exactly 3Δ in.
+        #[arg(long, default_value_t = pdcontact::bench::DEFAULT_HORIZON_FACTOR)]
+        horizon_factor: f64,
+        /// Time steps to time.
+        #[arg(long, default_value_t = 200)]
+        steps: usize,
+        /// Threads (default: one per core).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Print the measurements as JSON on stdout.
+        #[arg(long)]
+        json: bool,
+    },
     /// Run a scene file: frames for ParaView and summary.json in the output folder.
     Run {
         /// The scene (TOML).
@@ -226,6 +245,27 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
                     selection.failures.len()
                 )))
             }
+        }
+        Command::Bench {
+            lattice_sphere,
+            horizon_factor,
+            steps,
+            threads,
+            json,
+        } => {
+            let spec = pdcontact::bench::LatticeSphere {
+                spacing: lattice_sphere,
+                horizon_factor,
+                steps,
+                threads,
+            };
+            let report = pdcontact::bench::run_lattice_sphere(&spec)?;
+            if json {
+                println!("{}", to_json(&report));
+            } else {
+                print!("{}", report.to_text(&spec));
+            }
+            Ok(())
         }
         Command::Run {
             scene,

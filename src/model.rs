@@ -9,6 +9,7 @@ use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
 use crate::contact::{hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::discretize::{Vec3, NOT_A_PARTICLE};
 use crate::error::Result;
+use crate::neighbours::BondList;
 use crate::scene::{BodyKind, Kinematics, Scene};
 
 /// Particles per parallel work item of the bond loop.
@@ -235,11 +236,11 @@ pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
         .for_each(|(c, out)| {
             for (k, f) in out.iter_mut().enumerate() {
                 let i = c * CHUNK + k;
-                let yi = pos[i];
-                let mut acc = Vec3::zeros();
-                if small {
+                let acc = if small {
                     // Eq. 26 linearised: extension along the reference bond.
+                    let yi = pos[i];
                     let xi0 = reference[i];
+                    let mut acc = Vec3::zeros();
                     for b in bonds.range(i) {
                         let j = bonds.partner[b] as usize;
                         let xi = reference[j] - xi0;
@@ -247,19 +248,64 @@ pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
                         let ext = (pos[j] - yi - xi).dot(&xi) * inv;
                         acc += xi * (w[b] * ext * inv);
                     }
+                    acc
                 } else {
-                    for b in bonds.range(i) {
-                        let j = bonds.partner[b] as usize;
-                        let y = pos[j] - yi;
-                        let l = y.norm();
-                        acc += y * (w[b] * (l - bonds.length[b]) / l);
-                    }
-                }
+                    bond_force(pos, bonds, w, i)
+                };
                 *f = acc + load[i];
             }
         });
     pd.contact_force.iter_mut().for_each(|f| *f = Vec3::zeros());
     pd.contact_stiffness.iter_mut().for_each(|k| *k = 0.0);
+}
+
+/// The bond force on particle `i` (Eq. 26 times the volumes, finite kinematics):
+/// `Σ_j w_ij (|y_ij| − L_ij) y_ij/|y_ij|` with `y_ij = pos[j] − pos[i]` and `w` the bond weights
+/// `c G v_c V_i V_j / L` of [`PdBody::bond_weight`]. The one kernel that both the solvers and
+/// `pdcontact bench` run.
+#[inline]
+pub fn bond_force(pos: &[Vec3], bonds: &BondList, w: &[f64], i: usize) -> Vec3 {
+    // Bonds go in groups of LANES with the partners gathered into plain arrays, so that the
+    // square roots and divisions, which bound the loop, run as packed SIMD instructions.
+    const LANES: usize = 4;
+    let yi = pos[i];
+    let range = bonds.range(i);
+    let partner = &bonds.partner[range.clone()];
+    let length = &bonds.length[range.clone()];
+    let w = &w[range];
+    let mut acc = [[0.0f64; LANES]; 3];
+    let groups = partner
+        .chunks_exact(LANES)
+        .zip(length.chunks_exact(LANES))
+        .zip(w.chunks_exact(LANES));
+    for ((p, l0), wb) in groups {
+        let mut d = [[0.0f64; LANES]; 3];
+        for k in 0..LANES {
+            let y = pos[p[k] as usize] - yi;
+            d[0][k] = y.x;
+            d[1][k] = y.y;
+            d[2][k] = y.z;
+        }
+        for k in 0..LANES {
+            let l = (d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k]).sqrt();
+            let s = wb[k] * (l - l0[k]) / l;
+            for a in 0..3 {
+                acc[a][k] += d[a][k] * s;
+            }
+        }
+    }
+    let mut f = Vec3::new(
+        acc[0].iter().sum(),
+        acc[1].iter().sum(),
+        acc[2].iter().sum(),
+    );
+    let tail = partner.len() - partner.len() % LANES;
+    for ((&j, &l0), &wb) in partner[tail..].iter().zip(&length[tail..]).zip(&w[tail..]) {
+        let y = pos[j as usize] - yi;
+        let l = y.norm();
+        f += y * (wb * (l - l0) / l);
+    }
+    f
 }
 
 /// Particles of a named set of a body's mesh (its corner nodes that are particles).

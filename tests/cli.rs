@@ -189,3 +189,39 @@ fn scene_errors_exit_2_with_line_and_column() {
         "{err}"
     );
 }
+
+#[test]
+fn bench_lattice_sphere_json() {
+    let out = exe()
+        .args([
+            "bench",
+            "--lattice-sphere",
+            "0.2",
+            "--steps",
+            "5",
+            "--threads",
+            "1",
+            "--json",
+        ])
+        .output()
+        .expect("runs");
+    let v = json_of(&out);
+    // The 515 lattice points of spacing 0.2 with norm ≤ 1.
+    assert_eq!(v["particles"], 515);
+    assert_eq!(v["steps"], 5);
+    assert_eq!(v["threads"], 1);
+    for key in [
+        "bonds_per_particle",
+        "loop_seconds",
+        "setup_seconds",
+        "bond_updates_per_second",
+        "energy_drift",
+    ] {
+        assert!(v[key].as_f64().is_some(), "{key} in {v}");
+    }
+    let bad = exe()
+        .args(["bench", "--lattice-sphere", "0"])
+        .output()
+        .expect("runs");
+    assert_eq!(bad.status.code(), Some(2));
+}

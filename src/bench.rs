@@ -1,0 +1,319 @@
+//! `pdcontact bench`: the bond-force kernel timed on the problem LAMMPS's `pair_style peri/pmb`
+//! is compared on (docs/PERFORMANCE.md).
+//!
+//! The body is a sphere of radius 1 m whose particles are the points of a simple cubic lattice
+//! of spacing Δ inside it, each of volume Δ³ (what LAMMPS's `lattice sc` and `create_atoms`
+//! make), sorted in Morton order as [`discretize`](crate::discretize) sorts mesh nodes. Bonds
+//! come from [`build_bonds`], weights are the bond-based PMB ones, `w = c v_c V_i V_j / L` with
+//! `c = 12E/(πδ⁴)` (Eq. 5) and the volume correction `v_c` of Eq. 10, which is the partial
+//! volume LAMMPS applies to bonds near the edge of the horizon. There is no surface correction
+//! (LAMMPS has none) and no contact. Every step is velocity Verlet with the forces of
+//! [`bond_force`], the kernel the solvers run.
+//!
+//! As LAMMPS's `Loop time`, the loop time excludes the setup (lattice, bonds, weights, the
+//! first force evaluation); the setup is timed separately.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::correction::{micromodulus, volume_correction};
+use crate::discretize::{sort_morton, Vec3};
+use crate::error::{Error, Result};
+use crate::model::bond_force;
+use crate::neighbours::build_bonds;
+
+/// Radius of the sphere, m.
+pub const RADIUS: f64 = 1.0;
+/// Young's modulus, Pa.
+pub const YOUNGS: f64 = 1e9;
+/// Density, kg/m³.
+pub const DENSITY: f64 = 1000.0;
+/// Time step, s.
+pub const DT: f64 = 1e-5;
+/// Initial velocity `v = RATE · x` (a uniform expansion), 1/s.
+pub const RATE: f64 = 0.1;
+/// The horizon factor LAMMPS's examples use: 3 with a margin, so that bonds of length exactly
+/// 3Δ are inside the horizon whatever the rounding.
+pub const DEFAULT_HORIZON_FACTOR: f64 = 3.0002;
+/// Particles per parallel work item.
+const CHUNK: usize = 256;
+/// Largest lattice accepted (partner indices are 32-bit).
+const MAX_PARTICLES: f64 = 2.0e9;
+
+/// What to run.
+#[derive(Clone, Debug)]
+pub struct LatticeSphere {
+    /// Lattice spacing Δ, m.
+    pub spacing: f64,
+    /// Horizon δ = factor · Δ.
+    pub horizon_factor: f64,
+    /// Time steps of the timed loop.
+    pub steps: usize,
+    /// Threads of the rayon pool (default: rayon's, one per core).
+    pub threads: Option<usize>,
+}
+
+/// What a benchmark run measured.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct BenchReport {
+    pub particles: usize,
+    /// Directed bonds per particle (each pair counted twice, as LAMMPS counts them).
+    pub bonds_per_particle: f64,
+    pub steps: usize,
+    pub threads: usize,
+    /// Wall time of the time-step loop, s.
+    pub loop_seconds: f64,
+    /// Wall time of the lattice, bonds, weights and first force evaluation, s.
+    pub setup_seconds: f64,
+    /// Directed bonds × steps / loop seconds.
+    pub bond_updates_per_second: f64,
+    /// Peak resident memory of the process (`VmHWM`), MB (10⁶ bytes); null where unknown.
+    pub peak_rss_mb: Option<f64>,
+    /// Kinetic + strain energy before the loop, J.
+    pub initial_energy: f64,
+    /// Kinetic + strain energy after the loop, J.
+    pub final_energy: f64,
+    /// `|final − initial| / initial`.
+    pub energy_drift: f64,
+    /// Bytes the bond arrays hold per directed bond (partner, length, weight, offsets).
+    pub bytes_per_bond: f64,
+}
+
+impl BenchReport {
+    /// A two-column table for the terminal.
+    pub fn to_text(&self, spec: &LatticeSphere) -> String {
+        let rss = self
+            .peak_rss_mb
+            .map_or("unknown".to_string(), |m| format!("{m:.0}"));
+        let rows = [
+            (
+                "problem".to_string(),
+                format!(
+                    "lattice sphere R = {RADIUS} m, Δ = {} m, δ = {}Δ, PMB, velocity Verlet, dt = {DT:e} s",
+                    spec.spacing, spec.horizon_factor
+                ),
+            ),
+            ("particles".into(), self.particles.to_string()),
+            (
+                "bonds per particle (directed)".into(),
+                format!("{:.3}", self.bonds_per_particle),
+            ),
+            ("steps".into(), self.steps.to_string()),
+            ("threads".into(), self.threads.to_string()),
+            ("setup seconds".into(), format!("{:.3}", self.setup_seconds)),
+            ("loop seconds".into(), format!("{:.3}", self.loop_seconds)),
+            (
+                "seconds per step".into(),
+                format!("{:.4e}", self.loop_seconds / self.steps as f64),
+            ),
+            (
+                "bond updates per second".into(),
+                format!("{:.4e}", self.bond_updates_per_second),
+            ),
+            ("bytes per bond".into(), format!("{:.1}", self.bytes_per_bond)),
+            ("peak RSS (MB)".into(), rss),
+            (
+                "energy (J) before / after".into(),
+                format!("{:.6e} / {:.6e}", self.initial_energy, self.final_energy),
+            ),
+            ("energy drift".into(), format!("{:.3e}", self.energy_drift)),
+        ];
+        let width = rows.iter().map(|r| r.0.chars().count()).max().unwrap_or(0);
+        rows.iter()
+            .map(|(k, v)| format!("{k:<width$}  {v}\n"))
+            .collect()
+    }
+}
+
+/// Runs the benchmark in a rayon pool of the requested size.
+pub fn run_lattice_sphere(spec: &LatticeSphere) -> Result<BenchReport> {
+    if !(spec.spacing > 0.0 && spec.spacing.is_finite() && spec.spacing < RADIUS) {
+        return Err(Error::input(format!(
+            "--lattice-sphere: the spacing must be a length in (0, {RADIUS}) m, got {}",
+            spec.spacing
+        )));
+    }
+    if !(spec.horizon_factor >= 1.0 && spec.horizon_factor <= 10.0) {
+        return Err(Error::input(format!(
+            "--horizon-factor must be in [1, 10], got {}",
+            spec.horizon_factor
+        )));
+    }
+    if spec.steps == 0 {
+        return Err(Error::input("--steps must be at least 1"));
+    }
+    let estimate = 4.0 / 3.0 * std::f64::consts::PI * (RADIUS / spec.spacing).powi(3);
+    if estimate > MAX_PARTICLES {
+        return Err(Error::input(format!(
+            "--lattice-sphere {}: about {estimate:.2e} particles, more than {MAX_PARTICLES:.0e}",
+            spec.spacing
+        )));
+    }
+    let mut builder = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = spec.threads {
+        if n == 0 {
+            return Err(Error::input("--threads must be at least 1"));
+        }
+        builder = builder.num_threads(n);
+    }
+    let pool = builder
+        .build()
+        .map_err(|e| Error::input(format!("cannot start the thread pool: {e}")))?;
+    Ok(pool.install(|| run_in_pool(spec)))
+}
+
+/// The lattice points of spacing `dx` within the sphere, in Morton order.
+pub fn lattice_sphere(dx: f64) -> Vec<Vec3> {
+    let n = (RADIUS / dx).floor() as i64 + 1;
+    let mut points = Vec::new();
+    for k in -n..=n {
+        for j in -n..=n {
+            for i in -n..=n {
+                let p = Vec3::new(i as f64 * dx, j as f64 * dx, k as f64 * dx);
+                // As LAMMPS's `region sphere`: inside when r ≤ R.
+                if p.norm() <= RADIUS {
+                    points.push(p);
+                }
+            }
+        }
+    }
+    let coords: Vec<[f64; 3]> = points.iter().map(|p| [p.x, p.y, p.z]).collect();
+    let mut order: Vec<u32> = (0..points.len() as u32).collect();
+    sort_morton(&mut order, &coords, dx);
+    order.iter().map(|&k| points[k as usize]).collect()
+}
+
+fn run_in_pool(spec: &LatticeSphere) -> BenchReport {
+    let threads = rayon::current_num_threads();
+    let start = Instant::now();
+    let dx = spec.spacing;
+    let horizon = spec.horizon_factor * dx;
+    let x = lattice_sphere(dx);
+    let n = x.len();
+    let bonds = build_bonds(&x, horizon);
+    let volume = dx * dx * dx;
+    let c = micromodulus(YOUNGS, horizon);
+    let weight: Vec<f64> = bonds
+        .length
+        .par_iter()
+        .map(|&l| c * volume_correction(l, horizon, dx) * volume * volume / l)
+        .collect();
+    let mass = DENSITY * volume;
+    let mut y = x.clone();
+    let mut v: Vec<Vec3> = x.par_iter().map(|p| p * RATE).collect();
+    let mut f = vec![Vec3::zeros(); n];
+    f.par_iter_mut()
+        .enumerate()
+        .for_each(|(i, fi)| *fi = bond_force(&y, &bonds, &weight, i));
+    let setup_seconds = start.elapsed().as_secs_f64();
+    let initial_energy = energy(&x, &y, &v, &bonds, &weight, mass);
+
+    let half = 0.5 * DT / mass;
+    let start = Instant::now();
+    for _ in 0..spec.steps {
+        // Half kick and drift.
+        v.par_chunks_mut(CHUNK)
+            .zip(y.par_chunks_mut(CHUNK))
+            .zip(f.par_chunks(CHUNK))
+            .for_each(|((v, y), f)| {
+                for ((v, y), f) in v.iter_mut().zip(y).zip(f) {
+                    *v += f * half;
+                    *y += *v * DT;
+                }
+            });
+        // Forces at the new positions, with the second half kick in the same pass.
+        let pos: &[Vec3] = &y;
+        f.par_chunks_mut(CHUNK)
+            .zip(v.par_chunks_mut(CHUNK))
+            .enumerate()
+            .for_each(|(chunk, (f, v))| {
+                for (k, (f, v)) in f.iter_mut().zip(v).enumerate() {
+                    *f = bond_force(pos, &bonds, &weight, chunk * CHUNK + k);
+                    *v += *f * half;
+                }
+            });
+    }
+    let loop_seconds = start.elapsed().as_secs_f64();
+    let final_energy = energy(&x, &y, &v, &bonds, &weight, mass);
+    let directed = bonds.len();
+    let bond_bytes = bonds.partner.len() * std::mem::size_of::<u32>()
+        + (bonds.length.len() + weight.len()) * std::mem::size_of::<f64>()
+        + bonds.offsets.len() * std::mem::size_of::<usize>();
+    BenchReport {
+        particles: n,
+        bonds_per_particle: directed as f64 / n.max(1) as f64,
+        steps: spec.steps,
+        threads,
+        loop_seconds,
+        setup_seconds,
+        bond_updates_per_second: directed as f64 * spec.steps as f64 / loop_seconds,
+        peak_rss_mb: peak_rss_mb(),
+        initial_energy,
+        final_energy,
+        energy_drift: (final_energy - initial_energy).abs() / initial_energy.abs(),
+        bytes_per_bond: bond_bytes as f64 / directed.max(1) as f64,
+    }
+}
+
+/// Kinetic energy `Σ ½ m v²` plus strain energy `¼ Σ_directed w (|y| − L)²`.
+fn energy(
+    x: &[Vec3],
+    y: &[Vec3],
+    v: &[Vec3],
+    bonds: &crate::neighbours::BondList,
+    weight: &[f64],
+    mass: f64,
+) -> f64 {
+    let kinetic: f64 = v.par_iter().map(|v| 0.5 * mass * v.norm_squared()).sum();
+    let strain: f64 = (0..x.len())
+        .into_par_iter()
+        .map(|i| {
+            bonds
+                .range(i)
+                .map(|b| {
+                    let s = (y[bonds.partner[b] as usize] - y[i]).norm() - bonds.length[b];
+                    0.25 * weight[b] * s * s
+                })
+                .sum::<f64>()
+        })
+        .sum();
+    kinetic + strain
+}
+
+/// Peak resident set size (`VmHWM` of /proc/self/status), MB; `None` where there is no such file.
+pub fn peak_rss_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024.0 / 1e6)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lattice_sphere_counts_match_lammps() {
+        // `lattice sc 0.2` in a unit sphere: every lattice point of norm ≤ 1, once.
+        let x = lattice_sphere(0.2);
+        let brute = (-5i32..=5)
+            .flat_map(|i| (-5i32..=5).flat_map(move |j| (-5i32..=5).map(move |k| (i, j, k))))
+            .filter(|&(i, j, k)| i * i + j * j + k * k <= 25)
+            .count();
+        assert_eq!(x.len(), brute);
+    }
+
+    #[test]
+    fn energy_is_conserved() {
+        let spec = LatticeSphere {
+            spacing: 0.2,
+            horizon_factor: DEFAULT_HORIZON_FACTOR,
+            steps: 50,
+            threads: Some(2),
+        };
+        let r = run_lattice_sphere(&spec).expect("runs");
+        assert!(r.energy_drift < 1e-3, "drift {}", r.energy_drift);
+        assert!(r.bond_updates_per_second > 0.0);
+    }
+}
