@@ -265,7 +265,7 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             } else {
                 print!("{}", report.to_text(&spec));
             }
-            Ok(())
+            Ok(Outcome::Done)
         }
         Command::Run {
             scene,
