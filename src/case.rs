@@ -162,6 +162,7 @@ impl Default for CaseOptions {
 /// Wall time of each stage, in seconds.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize)]
 pub struct StageTimes {
+    pub discretize: f64,
     pub neighbours: f64,
     pub surface: f64,
     pub correction: f64,
@@ -206,10 +207,12 @@ impl PdCase {
                 options.horizon_factor
             )));
         }
+        let mut times = StageTimes::default();
+        let t = Instant::now();
         let particles = discretize(&mesh, options.spacing)?;
+        times.discretize = t.elapsed().as_secs_f64();
         let spacing = particles.spacing;
         let horizon = options.horizon_factor * spacing;
-        let mut times = StageTimes::default();
 
         let t = Instant::now();
         // Bonds reach δ + r (r = Δ/2, Eq. 10); the surface kernel reaches 3h = 3Δ. One list

@@ -15,8 +15,13 @@ use crate::vtk::{write_atomically, write_vtu, CellSpec, Field};
 #[derive(Clone, Copy, Debug, Default, Serialize)]
 pub struct ConvertSeconds {
     pub import: f64,
+    pub discretize: f64,
     pub neighbours: f64,
     pub surface: f64,
+    pub correction: f64,
+    pub segments: f64,
+    /// Writing `particles.vtu`, `segments.vtu` and `case.toml`.
+    pub write: f64,
     pub total: f64,
 }
 
@@ -35,6 +40,10 @@ pub struct ConvertSummary {
     pub surface_extra: usize,
     pub master_segments: usize,
     pub dropped_faces: usize,
+    /// Passes over the bonds the surface correction took, and its largest remaining
+    /// strain-energy error under the three uniaxial loads (METHOD.md §2).
+    pub correction_passes: usize,
+    pub correction_energy_error: f64,
     pub seconds: ConvertSeconds,
 }
 
@@ -55,6 +64,8 @@ impl ConvertSummary {
             surface_extra: agreement.extra,
             master_segments: case.segments.segments.len(),
             dropped_faces: case.segments.dropped_faces,
+            correction_passes: case.correction.passes,
+            correction_energy_error: case.correction.max_energy_error,
             seconds,
         }
     }
@@ -66,7 +77,8 @@ impl ConvertSummary {
              bonds {} ({:.1} per particle), spacing {:.6e}, horizon {:.6e}\n\
              surface particles {}, mesh boundary nodes {}: {} missed, {} extra\n\
              master segments {} ({} boundary faces dropped)\n\
-             seconds: import {:.3}, neighbours {:.3}, surface {:.3}, total {:.3}\n",
+             seconds: import {:.3}, discretize {:.3}, neighbours {:.3}, surface {:.3}, \
+             correction {:.3}, segments {:.3}, write {:.3}, total {:.3}\n",
             self.particles,
             self.total_volume,
             self.mesh_volume,
@@ -82,8 +94,12 @@ impl ConvertSummary {
             self.master_segments,
             self.dropped_faces,
             self.seconds.import,
+            self.seconds.discretize,
             self.seconds.neighbours,
             self.seconds.surface,
+            self.seconds.correction,
+            self.seconds.segments,
+            self.seconds.write,
             self.seconds.total,
         )
     }
@@ -101,11 +117,16 @@ pub fn convert(
     let import = start.elapsed().as_secs_f64();
     let case = PdCase::build(mesh, options)?;
     std::fs::create_dir_all(out).map_err(|e| Error::output(out, e))?;
+    let t = Instant::now();
     write_case_files(&case, mesh_path, out)?;
     let seconds = ConvertSeconds {
         import,
+        discretize: case.times.discretize,
         neighbours: case.times.neighbours,
         surface: case.times.surface,
+        correction: case.times.correction,
+        segments: case.times.segments,
+        write: t.elapsed().as_secs_f64(),
         total: start.elapsed().as_secs_f64(),
     };
     let summary = ConvertSummary::of(&case, seconds);
