@@ -44,6 +44,8 @@ pub struct ConvertSummary {
     /// strain-energy error under the three uniaxial loads (METHOD.md §2).
     pub correction_passes: usize,
     pub correction_energy_error: f64,
+    /// What the importer and the mesh quality checks found.
+    pub warnings: Vec<String>,
     pub seconds: ConvertSeconds,
 }
 
@@ -66,13 +68,14 @@ impl ConvertSummary {
             dropped_faces: case.segments.dropped_faces,
             correction_passes: case.correction.passes,
             correction_energy_error: case.correction.max_energy_error,
+            warnings: case.mesh.warnings.clone(),
             seconds,
         }
     }
 
     /// Readable lines for the terminal.
     pub fn to_text(&self) -> String {
-        format!(
+        let mut text = format!(
             "particles {} (volume {:.6e}, mesh {:.6e}, {:+.3} %)\n\
              bonds {} ({:.1} per particle), spacing {:.6e}, horizon {:.6e}\n\
              surface particles {}, mesh boundary nodes {}: {} missed, {} extra\n\
@@ -101,7 +104,11 @@ impl ConvertSummary {
             self.seconds.segments,
             self.seconds.write,
             self.seconds.total,
-        )
+        );
+        for w in &self.warnings {
+            text.push_str(&format!("warning: {w}\n"));
+        }
+        text
     }
 }
 

@@ -40,6 +40,9 @@ pub struct Outputs {
 #[derive(Clone, Debug, Serialize)]
 pub struct RunSummary {
     pub scene: String,
+    /// Warnings about the meshes (skipped element types, unused or duplicate nodes,
+    /// disconnected pieces), prefixed with the body's name.
+    pub warnings: Vec<String>,
     pub particles: usize,
     pub bonds: usize,
     pub iterations: usize,
@@ -164,6 +167,24 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
         .filter(|c| !matches!(c, std::path::Component::CurDir))
         .collect();
     let mut model = Model::from_scene(scene)?;
+    // What the importers and the quality checks found in the meshes, body by body.
+    let warnings: Vec<String> = model
+        .bodies
+        .iter()
+        .filter_map(Body::as_pd)
+        .flat_map(|pd| {
+            pd.case
+                .mesh
+                .warnings
+                .iter()
+                .map(move |w| format!("body \"{}\": {w}", pd.name))
+        })
+        .collect();
+    if !options.quiet {
+        for w in &warnings {
+            eprintln!("warning: {w}");
+        }
+    }
     let frames = FrameWriter::new(&folder, scene.output.every)?;
     let pvd = frames.pvd_path();
     let stop = options.stop.clone().unwrap_or_default();
@@ -194,6 +215,7 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
     let (radius, peak) = patch_figures(&model);
     let summary = RunSummary {
         scene: scene.source.clone(),
+        warnings,
         particles: model.particles(),
         bonds: model.bonds(),
         iterations: stats.iterations,

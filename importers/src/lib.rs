@@ -17,6 +17,7 @@ pub mod faces;
 pub mod inp;
 pub mod mesh;
 pub mod msh;
+pub mod quality;
 pub mod summary;
 mod text;
 
@@ -25,6 +26,7 @@ use std::path::Path;
 pub use error::{describe_found, ImportError, Location};
 pub use faces::{boundary_faces, face_corners, BoundaryFace, FaceSet};
 pub use mesh::{ElementKind, ElementRef, Format, Mesh, NamedSet, NodeIndex, SetKind, MISSING_NODE};
+pub use quality::quality_warnings;
 pub use summary::MeshSummary;
 
 /// Reads a mesh file. The format is `format` if given, else guessed from the extension and the
@@ -45,13 +47,17 @@ pub fn read_bytes(path: &Path, data: &[u8], format: Option<Format>) -> Result<Me
     read_format(path, data, format)
 }
 
-/// Reads bytes as the given format.
+/// Reads bytes as the given format; the mesh's warnings end with those of the quality checks
+/// ([`quality_warnings`]: unused nodes, duplicate nodes, disconnected pieces).
 pub fn read_format(path: &Path, data: &[u8], format: Format) -> Result<Mesh, ImportError> {
-    match format {
+    let mut mesh = match format {
         Format::Cdb => cdb::read(path, data),
         Format::Msh => msh::read(path, data),
         Format::Inp => inp::read(path, data),
-    }
+    }?;
+    let quality = quality_warnings(&mesh);
+    mesh.warnings.extend(quality);
+    Ok(mesh)
 }
 
 /// Guesses the format: content first where it is unambiguous (`$MeshFormat` for Gmsh, `*NODE`
