@@ -317,3 +317,96 @@ mod tests {
         assert!(r.bond_updates_per_second > 0.0);
     }
 }
+
+/// `pdcontact bench --adr SCENE`: what one ADR iteration costs against one bare bond-force
+/// pass ([`internal_forces`](crate::model::internal_forces): bonds and loads, every deformable
+/// body) on the scene's bodies. The ADR iterations are the solver's own (contact, residual,
+/// fictitious density, damping, update included), run with a tolerance of zero so that none
+/// stops early.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct AdrReport {
+    pub scene: String,
+    pub particles: usize,
+    pub bonds: usize,
+    pub iterations: usize,
+    pub threads: usize,
+    /// Seconds per bare bond-force pass.
+    pub bond_pass_seconds: f64,
+    /// Seconds per ADR iteration.
+    pub adr_iteration_seconds: f64,
+    /// `adr_iteration_seconds / bond_pass_seconds`.
+    pub ratio: f64,
+}
+
+impl AdrReport {
+    pub fn to_text(&self) -> String {
+        format!(
+            "{}: {} particles, {} bonds, {} threads\n\
+             bare bond-force pass: {:.4e} s\n\
+             ADR iteration:        {:.4e} s ({} iterations)\n\
+             ratio:                {:.3}\n",
+            self.scene,
+            self.particles,
+            self.bonds,
+            self.threads,
+            self.bond_pass_seconds,
+            self.adr_iteration_seconds,
+            self.iterations,
+            self.ratio
+        )
+    }
+}
+
+/// Times `iterations` bare bond-force passes and `iterations` ADR iterations on `scene`.
+pub fn run_adr(
+    scene: &crate::scene::Scene,
+    iterations: usize,
+    threads: Option<usize>,
+) -> Result<AdrReport> {
+    let run = || -> Result<AdrReport> {
+        let iterations = iterations.max(1);
+        let mut model = crate::model::Model::from_scene(scene)?;
+        let mut scratch = Vec::new();
+        // Warm up (first touch of every array), then time.
+        for pd in model
+            .bodies
+            .iter_mut()
+            .filter_map(crate::body::Body::as_pd_mut)
+        {
+            crate::model::internal_forces(pd, &mut scratch);
+        }
+        let start = Instant::now();
+        for _ in 0..iterations {
+            for pd in model
+                .bodies
+                .iter_mut()
+                .filter_map(crate::body::Body::as_pd_mut)
+            {
+                crate::model::internal_forces(pd, &mut scratch);
+            }
+        }
+        let bond_pass = start.elapsed().as_secs_f64() / iterations as f64;
+        let mut model = crate::model::Model::from_scene(scene)?;
+        let start = Instant::now();
+        let stats = crate::solver::adr(&mut model, 0.0, iterations, &mut crate::solver::Silent)?;
+        let adr = start.elapsed().as_secs_f64() / stats.iterations.max(1) as f64;
+        Ok(AdrReport {
+            scene: scene.source.clone(),
+            particles: model.particles(),
+            bonds: model.bonds(),
+            iterations: stats.iterations,
+            threads: rayon::current_num_threads(),
+            bond_pass_seconds: bond_pass,
+            adr_iteration_seconds: adr,
+            ratio: adr / bond_pass,
+        })
+    };
+    match threads {
+        Some(t) => rayon::ThreadPoolBuilder::new()
+            .num_threads(t.max(1))
+            .build()
+            .map_err(|e| Error::input(format!("cannot start {t} threads: {e}")))?
+            .install(run),
+        None => run(),
+    }
+}

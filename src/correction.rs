@@ -127,6 +127,78 @@ fn relative_energies(
         .collect()
 }
 
+/// Per-bond data of the balanced correction's passes (see [`relative_energies`]).
+struct BondGeometry {
+    data: Vec<BondDatum>,
+    offsets: Vec<usize>,
+}
+
+/// One bond of [`BondGeometry`].
+struct BondDatum {
+    /// `n_α²` of the bond's direction.
+    n2: [f32; 3],
+    /// `¼ c ε² |ξ| v_c V_j / W_∞`: the bond's energy before the correction factor.
+    weight: f32,
+    /// The partner's source particle (itself, or the particle a mirror image copies).
+    source: u32,
+}
+
+impl BondGeometry {
+    fn new(
+        position: &[Vec3],
+        volume: &[f64],
+        source: &[usize],
+        bonds: &BondList,
+        horizon: f64,
+        spacing: f64,
+    ) -> BondGeometry {
+        let scale = 5.0 / (std::f64::consts::PI * horizon.powi(4));
+        let data: Vec<BondDatum> = (0..bonds.particles())
+            .into_par_iter()
+            .flat_map_iter(|i| {
+                bonds.range(i).map(move |b| {
+                    let j = bonds.partner[b] as usize;
+                    let len = bonds.length[b];
+                    let d = (position[j] - position[i]) / len;
+                    BondDatum {
+                        n2: [(d.x * d.x) as f32, (d.y * d.y) as f32, (d.z * d.z) as f32],
+                        weight: (scale * len * volume_correction(len, horizon, spacing) * volume[j])
+                            as f32,
+                        source: source[j] as u32,
+                    }
+                })
+            })
+            .collect();
+        BondGeometry {
+            data,
+            offsets: bonds.offsets.clone(),
+        }
+    }
+
+    /// [`relative_energies`] with the balanced factor `1/√(Σ n_α² r_iα r_jα)`.
+    fn relative_energies(&self, r: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        (0..self.offsets.len() - 1)
+            .into_par_iter()
+            .map(|i| {
+                let ri = r[i].map(|x| x as f32);
+                let mut w = [0.0f32; 3];
+                for bond in &self.data[self.offsets[i]..self.offsets[i + 1]] {
+                    let n2 = bond.n2;
+                    let rj = &r[bond.source as usize];
+                    let q = n2[0] * ri[0] * rj[0] as f32
+                        + n2[1] * ri[1] * rj[1] as f32
+                        + n2[2] * ri[2] * rj[2] as f32;
+                    let a = bond.weight / q.sqrt();
+                    for k in 0..3 {
+                        w[k] += a * n2[k] * n2[k];
+                    }
+                }
+                w.map(f64::from)
+            })
+            .collect()
+    }
+}
+
 fn max_error(w: &[[f64; 3]]) -> f64 {
     w.iter()
         .flat_map(|e| e.iter().map(|&x| (x - 1.0).abs()))
@@ -168,6 +240,7 @@ pub fn surface_correction_with(
         .map(|w| w.map(|x| if x > 0.0 { 1.0 / x } else { 1.0 }))
         .collect();
     let mut passes = 1;
+    let mut last_w: Option<Vec<[f64; 3]>> = None;
 
     let (g, combine): (Vec<[f64; 3]>, Combine) = match method {
         CorrectionMethod::None => {
@@ -192,14 +265,15 @@ pub fn surface_correction_with(
             let combine: Combine = |ri, rj| std::array::from_fn(|k| ri[k] * rj[k]);
             // Iterate on r = 1/g, so that 1/ḡ² = r_i r_j costs one product per axis.
             let mut r: Vec<[f64; 3]> = first_g.iter().map(|g| g.map(|x| 1.0 / x)).collect();
+            // What a pass needs of each bond, computed once: the pass runs up to MAX_PASSES
+            // times and is bound by memory, so single precision halves its traffic; the
+            // iteration only has to reach 1 %, and the final factors below are in f64.
+            let geometry = BondGeometry::new(position, volume, source, bonds, horizon, spacing);
             loop {
-                // Monomorphised (not through `energies`): this pass runs up to MAX_PASSES times.
-                let w = relative_energies(position, volume, bonds, horizon, spacing, |i, j, n2| {
-                    let (ri, rj) = (&r[i], &r[source[j]]);
-                    ellipsoid(n2, [ri[0] * rj[0], ri[1] * rj[1], ri[2] * rj[2]])
-                });
+                let w = geometry.relative_energies(&r);
                 passes += 1;
                 if max_error(&w) < BALANCE_TOLERANCE || passes >= MAX_PASSES {
+                    last_w = Some(w);
                     break;
                 }
                 for (ri, wi) in r.iter_mut().zip(&w) {
@@ -219,8 +293,14 @@ pub fn surface_correction_with(
         CorrectionMethod::Balanced => g.iter().map(|gi| gi.map(|x| 1.0 / x)).collect(),
         _ => g.clone(),
     };
-    let final_w = energies(&|i, j, n2| ellipsoid(n2, combine(&operand[i], &operand[source[j]])));
-    passes += 1;
+    // The balanced iteration has the energies of its final factors already.
+    let final_w = match last_w {
+        Some(w) => w,
+        None => {
+            passes += 1;
+            energies(&|i, j, n2| ellipsoid(n2, combine(&operand[i], &operand[source[j]])))
+        }
+    };
     let bond_factor: Vec<f64> = (0..n)
         .into_par_iter()
         .flat_map_iter(|i| {

@@ -90,12 +90,20 @@ enum Command {
     /// (R = 1 m) of simple cubic lattice points, explicit velocity Verlet.
     Bench {
         /// Lattice spacing Δ in metres (0.04 gives 65,267 particles).
-        #[arg(long, value_name = "DX")]
-        lattice_sphere: f64,
+        #[arg(
+            long,
+            value_name = "DX",
+            required_unless_present = "adr",
+            conflicts_with = "adr"
+        )]
+        lattice_sphere: Option<f64>,
+        /// Instead: time one ADR iteration against one bare bond-force pass on this scene.
+        #[arg(long, value_name = "SCENE")]
+        adr: Option<PathBuf>,
         /// Horizon factor m (δ = m·Δ); 3.0002 keeps bonds of length exactly 3Δ in.
         #[arg(long, default_value_t = pdcontact::bench::DEFAULT_HORIZON_FACTOR)]
         horizon_factor: f64,
-        /// Time steps to time.
+        /// Time steps (or, with --adr, passes and iterations) to time.
         #[arg(long, default_value_t = 200)]
         steps: usize,
         /// Threads (default: one per core).
@@ -248,11 +256,27 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
         }
         Command::Bench {
             lattice_sphere,
+            adr,
             horizon_factor,
             steps,
             threads,
             json,
         } => {
+            if let Some(scene) = adr {
+                let scene = pdcontact::scene::Scene::load(&scene)?;
+                let report = pdcontact::bench::run_adr(&scene, steps, threads)?;
+                if json {
+                    println!("{}", to_json(&report));
+                } else {
+                    print!("{}", report.to_text());
+                }
+                return Ok(Outcome::Done);
+            }
+            let Some(lattice_sphere) = lattice_sphere else {
+                return Err(pdcontact::Error::input(
+                    "bench needs --lattice-sphere DX or --adr SCENE",
+                ));
+            };
             let spec = pdcontact::bench::LatticeSphere {
                 spacing: lattice_sphere,
                 horizon_factor,

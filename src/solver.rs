@@ -16,6 +16,8 @@
 //! Both stop with an error naming the step and the likely cause on NaN, energy growth,
 //! displacement growth, ADR divergence and missed contacts.
 
+use rayon::prelude::*;
+
 use crate::body::{Body, FIX_X, FIX_Y, FIX_Z};
 use crate::discretize::Vec3;
 use crate::error::{Error, Result};
@@ -156,11 +158,17 @@ fn residual(model: &Model) -> (f64, Vec3) {
     for b in &model.bodies {
         match b {
             Body::Deformable(pd) => {
-                for (f, &m) in pd.force.iter().zip(&pd.fixed) {
-                    let r = f.component_mul(&free_factor(m));
-                    s += r.norm_squared();
-                    net += r;
-                }
+                let (s2, n2) = pd
+                    .force
+                    .par_iter()
+                    .zip(&pd.fixed)
+                    .map(|(f, &m)| {
+                        let r = f.component_mul(&free_factor(m));
+                        (r.norm_squared(), r)
+                    })
+                    .reduce(|| (0.0, Vec3::zeros()), |a, b| (a.0 + b.0, a.1 + b.1));
+                s += s2;
+                net += n2;
             }
             Body::Rigid(rb) if rb.motion == Motion::Free => {
                 let r = (rb.load + rb.contact_force).dot(&rb.axis);
@@ -178,8 +186,8 @@ fn check_finite(model: &Model, step: usize, what: &str) -> Result<()> {
         if let Body::Deformable(pd) = b {
             if pd
                 .u
-                .iter()
-                .chain(&pd.force)
+                .par_iter()
+                .chain(pd.force.par_iter())
                 .any(|v| !v.iter().all(|c| c.is_finite()))
             {
                 return Err(Error::numerical(format!(
@@ -258,11 +266,14 @@ pub fn adr(
         for (k, b) in model.bodies.iter().enumerate() {
             match b {
                 Body::Deformable(pd) => {
-                    lambda[k] = density[k]
-                        .iter()
+                    // In place: no allocation inside the iteration loop.
+                    lambda[k].resize(pd.len(), 0.0);
+                    lambda[k]
+                        .par_iter_mut()
+                        .zip(&density[k])
                         .zip(&pd.contact_stiffness)
-                        .map(|(d, kc)| d + CONTACT_ROW * kc)
-                        .collect();
+                        .with_min_len(1024)
+                        .for_each(|((l, d), kc)| *l = d + CONTACT_ROW * kc);
                 }
                 Body::Rigid(rb) if rb.motion == Motion::Free => {
                     // Before contact the free body has no stiffness: give it the density of
@@ -338,21 +349,30 @@ pub fn adr(
         for (k, b) in model.bodies.iter().enumerate() {
             match b {
                 Body::Deformable(pd) => {
-                    for i in 0..pd.len() {
-                        let ff = free_factor(pd.fixed[i]);
-                        for a in 0..3 {
-                            if ff[a] == 0.0 {
-                                continue;
+                    let (lam, prev) = (&lambda[k], &prev_f[k]);
+                    let (nb, db) = (0..pd.len())
+                        .into_par_iter()
+                        .with_min_len(1024)
+                        .map(|i| {
+                            let ff = free_factor(pd.fixed[i]);
+                            let (mut num, mut den) = (0.0, 0.0);
+                            for a in 0..3 {
+                                if ff[a] == 0.0 {
+                                    continue;
+                                }
+                                let u = pd.u[i][a];
+                                let v = pd.v[i][a];
+                                if v != 0.0 {
+                                    let k1 = -(pd.force[i][a] - prev[i][a]) / (lam[i] * v);
+                                    num += u * k1 * u;
+                                }
+                                den += u * u;
                             }
-                            let u = pd.u[i][a];
-                            let v = pd.v[i][a];
-                            if v != 0.0 {
-                                let k1 = -(pd.force[i][a] - prev_f[k][i][a]) / (lambda[k][i] * v);
-                                num += u * k1 * u;
-                            }
-                            den += u * u;
-                        }
-                    }
+                            (num, den)
+                        })
+                        .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+                    num += nb;
+                    den += db;
                 }
                 Body::Rigid(rb) if rb.motion == Motion::Free => {
                     let f = (rb.load + rb.contact_force).dot(&rb.axis);
@@ -374,14 +394,21 @@ pub fn adr(
         for (k, b) in model.bodies.iter_mut().enumerate() {
             match b {
                 Body::Deformable(pd) => {
-                    for i in 0..pd.len() {
-                        let ff = free_factor(pd.fixed[i]);
-                        let v =
-                            (pd.v[i] * (2.0 - c) + pd.force[i] * (2.0 / lambda[k][i])) / (2.0 + c);
-                        pd.v[i] = v.component_mul(&ff);
-                        pd.u[i] += pd.v[i];
-                    }
-                    prev_f[k].copy_from_slice(&pd.force);
+                    let lam = &lambda[k];
+                    let pd = &mut **pd;
+                    pd.v.par_iter_mut()
+                        .zip(pd.u.par_iter_mut())
+                        .zip(prev_f[k].par_iter_mut())
+                        .enumerate()
+                        .with_min_len(1024)
+                        .for_each(|(i, ((v, u), prev))| {
+                            let ff = free_factor(pd.fixed[i]);
+                            let f = pd.force[i];
+                            *v = ((*v * (2.0 - c) + f * (2.0 / lam[i])) / (2.0 + c))
+                                .component_mul(&ff);
+                            *u += *v;
+                            *prev = f;
+                        });
                 }
                 Body::Rigid(rb) if rb.motion == Motion::Free => {
                     let f = (rb.load + rb.contact_force).dot(&rb.axis);

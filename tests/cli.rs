@@ -225,3 +225,50 @@ fn bench_lattice_sphere_json() {
         .expect("runs");
     assert_eq!(bad.status.code(), Some(2));
 }
+
+#[test]
+fn bench_adr_times_iterations_against_bond_passes() {
+    let dir = temp_dir("bench-adr");
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let scene = dir.join("block.toml");
+    std::fs::write(
+        &scene,
+        r#"[solver]
+kind = "adr"
+
+[[body]]
+name = "block"
+generator = { shape = "box", min = [0.0, 0.0, 0.0], max = [0.4, 0.4, 0.4], spacing = 0.05 }
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+
+[[load]]
+body = "block"
+set = "top"
+force = [0.0, 0.0, -1e5]
+
+[[constraint]]
+body = "block"
+set = "bottom"
+fix = ["x", "y", "z"]
+"#,
+    )
+    .expect("scene written");
+    let out = exe()
+        .args(["bench", "--adr"])
+        .arg(&scene)
+        .args(["--steps", "7", "--json"])
+        .output()
+        .expect("runs");
+    let v = json_of(&out);
+    assert_eq!(v["iterations"], 7, "{v}");
+    assert!(v["particles"].as_u64().unwrap_or(0) > 500, "{v}");
+    let ratio = v["ratio"].as_f64().expect("ratio");
+    // An ADR iteration does a bond pass and more: it cannot be much cheaper than one.
+    assert!(ratio > 0.5 && ratio.is_finite(), "{v}");
+    let neither = exe().args(["bench"]).output().expect("runs");
+    assert_eq!(neither.status.code(), Some(2));
+    let _ = std::fs::remove_dir_all(&dir);
+}
