@@ -269,17 +269,27 @@ pub fn surface_correction_with(
             // times and is bound by memory, so single precision halves its traffic; the
             // iteration only has to reach 1 %, and the final factors below are in f64.
             let geometry = BondGeometry::new(position, volume, source, bonds, horizon, spacing);
+            // Over-relaxed while the error falls; plain Sinkhorn (ω = 1, which cannot
+            // overshoot) from the first pass where it does not, on meshes whose local modes
+            // the over-relaxation would excite.
+            let mut relaxation = RELAXATION;
+            let mut previous = f64::INFINITY;
             loop {
                 let w = geometry.relative_energies(&r);
                 passes += 1;
-                if max_error(&w) < BALANCE_TOLERANCE || passes >= MAX_PASSES {
+                let error = max_error(&w);
+                if error < BALANCE_TOLERANCE || passes >= MAX_PASSES {
                     last_w = Some(w);
                     break;
                 }
+                if !(error < previous) {
+                    relaxation = 1.0;
+                }
+                previous = error;
                 for (ri, wi) in r.iter_mut().zip(&w) {
                     for k in 0..3 {
                         if wi[k] > 0.0 {
-                            ri[k] *= wi[k].powf(RELAXATION);
+                            ri[k] *= wi[k].powf(relaxation);
                         }
                     }
                 }
