@@ -39,6 +39,7 @@ pub mod output;
 pub mod run;
 pub mod scene;
 pub mod segments;
+pub mod shortrange;
 pub mod solver;
 pub mod surface;
 pub mod validate;

@@ -434,6 +434,11 @@ pub fn stable_time_step(model: &Model) -> f64 {
                     }
                 }
             }
+            for p in &model.short_range {
+                for (c, b) in contact.iter_mut().zip(p.stiffness_bound(k, pd)) {
+                    *c += b;
+                }
+            }
             let omega2 = highest_eigenvalue(pd, &contact);
             if omega2 > 0.0 {
                 dt = dt.min(2.0 / omega2.sqrt());
