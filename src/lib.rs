@@ -42,6 +42,7 @@ pub mod segments;
 pub mod shortrange;
 pub mod solver;
 pub mod surface;
+pub mod sweep;
 pub mod validate;
 pub mod vtk;
 

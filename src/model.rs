@@ -196,7 +196,8 @@ impl Model {
 
     /// Missed contacts in the last evaluation.
     pub fn missed_contacts(&self) -> usize {
-        self.passes.iter().map(|p| p.missed).sum()
+        self.passes.iter().map(|p| p.missed).sum::<usize>()
+            + self.short_range.iter().map(|p| p.missed).sum::<usize>()
     }
 
     /// Verlet rebuilds so far.

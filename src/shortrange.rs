@@ -38,7 +38,7 @@
 use rayon::prelude::*;
 
 use crate::body::{Body, PdBody};
-use crate::contact::SKIN;
+use crate::contact::{slave_normal, SKIN};
 use crate::discretize::Vec3;
 use crate::neighbours::CellGrid;
 
@@ -80,6 +80,11 @@ pub struct ShortRangePass {
     pub touching: usize,
     /// Master particles that touched the slave in the last evaluation.
     pub touched: usize,
+    /// Slave particles found behind the master's surface in the last evaluation: nearer to a
+    /// master surface particle than `d` plus the skin, and on the inner side of its outward
+    /// normal. They went through the surface within a step (too fast for the step) or were
+    /// pushed through it (a load the repulsion cannot hold).
+    pub missed: usize,
     /// Sum of the overlap energies `½ k (d − |y|)²` of the slave side's pairs (J).
     pub energy: f64,
     /// Total force on the slave from the master in the last evaluation (N).
@@ -97,6 +102,8 @@ struct Side {
     source: Vec<u32>,
     mask: Vec<u8>,
     volume: Vec<f64>,
+    /// Outward normals now ([`slave_normal`]).
+    normal: Vec<Vec3>,
 }
 
 fn side(b: &PdBody, surface: &[u32]) -> Side {
@@ -107,12 +114,14 @@ fn side(b: &PdBody, surface: &[u32]) -> Side {
         source: Vec::new(),
         mask: Vec::new(),
         volume: Vec::new(),
+        normal: Vec::new(),
     };
     for &i in surface {
         s.pos.push(b.position(i as usize));
         s.source.push(i);
         s.mask.push(0);
         s.volume.push(vol[i as usize] / g.share(i as usize));
+        s.normal.push(slave_normal(b, i as usize));
     }
     let is_surface = &b.case.surface.is_surface;
     for (&src, &mask) in g.source.iter().zip(&g.mask) {
@@ -121,6 +130,9 @@ fn side(b: &PdBody, surface: &[u32]) -> Side {
             s.source.push(src);
             s.mask.push(mask);
             s.volume.push(vol[src as usize] / g.share(src as usize));
+            let n = slave_normal(b, src as usize);
+            s.normal
+                .push(g.reflect(n, mask) - g.reflect(Vec3::zeros(), mask));
         }
     }
     s
@@ -151,6 +163,7 @@ impl ShortRangePass {
             masters,
             touching: 0,
             touched: 0,
+            missed: 0,
             energy: 0.0,
             slave_force: Vec3::zeros(),
         }
@@ -164,7 +177,7 @@ impl ShortRangePass {
     /// Forces on the particles `own` of body `a` from the surface particles of `other`, and
     /// per particle the stiffness of every pair within `d` plus the skin (which may close
     /// within a step). Returns (force, stiffness, energy) per particle.
-    fn one_side(&self, a: &PdBody, own: &[u32], other: &Side) -> Vec<(Vec3, f64, f64)> {
+    fn one_side(&self, a: &PdBody, own: &[u32], other: &Side) -> Vec<(Vec3, f64, f64, bool)> {
         let d = self.distance;
         let reach = d + SKIN * a.spacing();
         let grid = CellGrid::new(&other.pos, reach);
@@ -174,10 +187,14 @@ impl ShortRangePass {
                 let p = a.position(i as usize);
                 let v_i = vol[i as usize];
                 let (mut f, mut k, mut e) = (Vec3::zeros(), 0.0, 0.0);
+                let mut nearest = (f64::INFINITY, false);
                 grid.for_each_candidate(&p, reach, |j| {
                     let y = p - other.pos[j as usize];
                     let r2 = y.norm_squared();
                     if r2 < reach * reach {
+                        if r2 < nearest.0 {
+                            nearest = (r2, y.dot(&other.normal[j as usize]) < 0.0);
+                        }
                         let v_j = other.volume[j as usize];
                         let kp = self.pair_stiffness(v_i, v_j);
                         k += kp;
@@ -188,7 +205,7 @@ impl ShortRangePass {
                         }
                     }
                 });
-                (f, k, e)
+                (f, k, e, nearest.1)
             })
             .collect()
     }
@@ -202,6 +219,7 @@ impl ShortRangePass {
         let on_master = self.one_side(mb, &self.masters, &side(sb, &self.slaves));
         self.touching = on_slave.iter().filter(|r| r.0 != Vec3::zeros()).count();
         self.touched = on_master.iter().filter(|r| r.0 != Vec3::zeros()).count();
+        self.missed = on_slave.iter().filter(|r| r.3).count();
         self.energy = on_slave.iter().map(|r| r.2).sum();
         self.slave_force = on_slave.iter().map(|r| r.0).sum();
         self.slave_out = on_slave.iter().map(|r| (r.0, r.1)).collect();
