@@ -41,6 +41,7 @@ pub mod scene;
 pub mod segments;
 pub mod shortrange;
 pub mod solver;
+pub mod stability;
 pub mod surface;
 pub mod sweep;
 pub mod validate;

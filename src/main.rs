@@ -104,6 +104,10 @@ enum Command {
         /// No progress on stderr.
         #[arg(long)]
         quiet: bool,
+        /// Scan the explicit time step, the penalty stiffness and the impact speed instead;
+        /// writes stability.json and stability.svg.
+        #[arg(long)]
+        stability: bool,
     },
     /// Time the bond-force kernel on the LAMMPS peri/pmb comparison problem: a sphere
     /// (R = 1 m) of simple cubic lattice points, explicit velocity Verlet.
@@ -271,7 +275,17 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             output,
             json,
             quiet,
+            stability,
         } => {
+            if stability {
+                let runs = pdcontact::stability::run_stability(&output, quiet)?;
+                if json {
+                    println!("{}", to_json(&runs));
+                } else {
+                    print!("{}", pdcontact::stability::table(&runs));
+                }
+                return Ok(Outcome::Done);
+            }
             if case != "sphere" {
                 return Err(pdcontact::Error::input(format!(
                     "sweep: --case takes sphere, got \"{case}\""
