@@ -34,6 +34,12 @@
 //! the slave's) with the same formula, so the forces are equal and opposite pair by pair.
 //! With a symmetry plane a particle on it holds its share of the volume and sees the whole
 //! volume of its partners, as bonds do ([`crate::case::Ghosts::partner_volumes`]).
+//!
+//! A slave particle whose nearest master surface particle (within `d` plus the skin) sees it on
+//! the inner side of its outward normal has gone through the surface: a missed contact, which
+//! the solvers stop on as they do for the point-to-surface method. The repulsion is capped at
+//! `15 c V_i V_j d/δ` per pair, so a fast enough particle crosses the zone whatever the time
+//! step (docs/STABILITY.md).
 
 use rayon::prelude::*;
 
