@@ -39,8 +39,11 @@ pub mod output;
 pub mod run;
 pub mod scene;
 pub mod segments;
+pub mod shortrange;
 pub mod solver;
+pub mod stability;
 pub mod surface;
+pub mod sweep;
 pub mod validate;
 pub mod vtk;
 

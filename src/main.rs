@@ -86,6 +86,29 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Speed against accuracy: the Hertz sphere over a grid of spacings, horizons, contact
+    /// methods and solvers; writes sweep.json and speed_accuracy.svg.
+    Sweep {
+        /// The problem (sphere).
+        #[arg(long, default_value = "sphere")]
+        case: String,
+        /// The scene set (hertz).
+        #[arg(long, default_value = "hertz")]
+        set: String,
+        /// Output folder (one subfolder per run).
+        #[arg(short, long, default_value = "pdcontact-sweep")]
+        output: PathBuf,
+        /// Print the runs as JSON on stdout instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// No progress on stderr.
+        #[arg(long)]
+        quiet: bool,
+        /// Scan the explicit time step, the penalty stiffness and the impact speed instead;
+        /// writes stability.json and stability.svg.
+        #[arg(long)]
+        stability: bool,
+    },
     /// Time the bond-force kernel on the LAMMPS peri/pmb comparison problem: a sphere
     /// (R = 1 m) of simple cubic lattice points, explicit velocity Verlet.
     Bench {
@@ -253,6 +276,42 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
                     selection.failures.len()
                 )))
             }
+        }
+        Command::Sweep {
+            case,
+            set,
+            output,
+            json,
+            quiet,
+            stability,
+        } => {
+            if stability {
+                let runs = pdcontact::stability::run_stability(&output, quiet)?;
+                if json {
+                    println!("{}", to_json(&runs));
+                } else {
+                    print!("{}", pdcontact::stability::table(&runs));
+                }
+                return Ok(Outcome::Done);
+            }
+            if case != "sphere" {
+                return Err(pdcontact::Error::input(format!(
+                    "sweep: --case takes sphere, got \"{case}\""
+                )));
+            }
+            if set != "hertz" {
+                return Err(pdcontact::Error::input(format!(
+                    "sweep: --set takes hertz, got \"{set}\""
+                )));
+            }
+            let runs =
+                pdcontact::sweep::run_sweep(pdcontact::sweep::sphere_grid(), &output, quiet)?;
+            if json {
+                println!("{}", to_json(&runs));
+            } else {
+                print!("{}", pdcontact::sweep::table(&runs));
+            }
+            Ok(Outcome::Done)
         }
         Command::Bench {
             lattice_sphere,

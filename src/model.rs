@@ -10,7 +10,8 @@ use crate::contact::{hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::discretize::{Vec3, NOT_A_PARTICLE};
 use crate::error::Result;
 use crate::neighbours::BondList;
-use crate::scene::{BodyKind, Kinematics, Scene};
+use crate::scene::{BodyKind, ContactMethod, Kinematics, Scene};
+use crate::shortrange::ShortRangePass;
 
 /// Particles per parallel work item of the bond loop.
 const CHUNK: usize = 256;
@@ -20,6 +21,8 @@ const CHUNK: usize = 256;
 pub struct Model {
     pub bodies: Vec<Body>,
     pub passes: Vec<ContactPass>,
+    /// Pairs resolved by the short-range method.
+    pub short_range: Vec<ShortRangePass>,
     /// Force evaluations so far.
     pub evaluations: usize,
     /// Scratch: current positions of each deformable body.
@@ -83,10 +86,15 @@ impl Model {
         }
 
         let mut passes = Vec::new();
+        let mut short_range = Vec::new();
         for c in &scene.contacts {
             let (Some(s), Some(m)) = (index(&c.slave), index(&c.master)) else {
                 continue;
             };
+            if c.method == ContactMethod::ShortRange {
+                short_range.push(ShortRangePass::new(&bodies, s, m));
+                continue;
+            }
             let add = |s: usize, m: usize, weight: f64, bodies: &[Body]| {
                 let sb = bodies[s].as_pd().expect("slave is deformable");
                 let m_slave = sb.material.compliance();
@@ -119,6 +127,7 @@ impl Model {
         Ok(Model {
             bodies,
             passes,
+            short_range,
             evaluations: 0,
             positions,
         })
@@ -157,7 +166,13 @@ impl Model {
         for k in 0..self.passes.len() {
             self.passes[k].detect(&self.bodies);
         }
+        for pass in &mut self.short_range {
+            pass.detect(&self.bodies);
+        }
         for pass in &self.passes {
+            pass.apply(&mut self.bodies);
+        }
+        for pass in &self.short_range {
             pass.apply(&mut self.bodies);
         }
     }
@@ -175,12 +190,14 @@ impl Model {
 
     /// Contacts found in the last evaluation.
     pub fn contact_count(&self) -> usize {
-        self.passes.iter().map(|p| p.contacts.len()).sum()
+        self.passes.iter().map(|p| p.contacts.len()).sum::<usize>()
+            + self.short_range.iter().map(|p| p.touching).sum::<usize>()
     }
 
     /// Missed contacts in the last evaluation.
     pub fn missed_contacts(&self) -> usize {
-        self.passes.iter().map(|p| p.missed).sum()
+        self.passes.iter().map(|p| p.missed).sum::<usize>()
+            + self.short_range.iter().map(|p| p.missed).sum::<usize>()
     }
 
     /// Verlet rebuilds so far.
@@ -188,25 +205,28 @@ impl Model {
         self.passes.iter().map(|p| p.verlet.rebuilds).sum()
     }
 
-    /// Contact energy `Σ w K δ^{5/2} / (5/2)` (Hertz) or `½ w K' δ²` (linear).
+    /// Contact energy `Σ w K δ^{5/2} / (5/2)` (Hertz) or `½ w K' δ²` (linear), plus
+    /// `½ k (d − |y|)²` per short-range pair.
     pub fn contact_energy(&self) -> f64 {
-        self.passes
-            .iter()
-            .map(|p| {
-                p.contacts
-                    .iter()
-                    .map(|c| {
-                        let d = c.penetration;
-                        // ∫ F dδ for F = force(δ): force(d)·d·(2/5) for Hertz, ·(1/2) linear.
-                        let f = p.weight * p.law.force(d);
-                        match p.law.law {
-                            crate::scene::PenaltyLaw::Hertz => 0.4 * f * d,
-                            crate::scene::PenaltyLaw::Linear => 0.5 * f * d,
-                        }
-                    })
-                    .sum::<f64>()
-            })
-            .sum()
+        self.short_range.iter().map(|p| p.energy).sum::<f64>()
+            + self
+                .passes
+                .iter()
+                .map(|p| {
+                    p.contacts
+                        .iter()
+                        .map(|c| {
+                            let d = c.penetration;
+                            // ∫ F dδ for F = force(δ): force(d)·d·(2/5) for Hertz, ·(1/2) linear.
+                            let f = p.weight * p.law.force(d);
+                            match p.law.law {
+                                crate::scene::PenaltyLaw::Hertz => 0.4 * f * d,
+                                crate::scene::PenaltyLaw::Linear => 0.5 * f * d,
+                            }
+                        })
+                        .sum::<f64>()
+                })
+                .sum::<f64>()
     }
 }
 

@@ -115,6 +115,9 @@ pub fn force_balance(model: &Model) -> (Vec3, Vec3, f64) {
         for p in &model.passes {
             contact += p.contacts.iter().map(|c| c.force).sum::<Vec3>();
         }
+        for p in &model.short_range {
+            contact += p.slave_force;
+        }
     }
     let mut net = applied + reactions;
     for a in 0..3 {

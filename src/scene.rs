@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use crate::correction::CorrectionMethod;
 use crate::error::{Error, Result};
@@ -306,7 +306,32 @@ pub struct ContactSpec {
     /// R of the Hertz stiffness (default Δ/2 of the slave).
     pub radius: Option<f64>,
     /// Contact method: "point-to-surface" (default) or "short-range".
-    pub method: Option<String>,
+    #[serde(default)]
+    pub method: ContactMethod,
+}
+
+/// How a contact pair is resolved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContactMethod {
+    /// The paper's method: slave particles against master segments, Hertz penalty
+    /// ([`crate::contact`]).
+    #[default]
+    #[serde(alias = "point_to_surface")]
+    PointToSurface,
+    /// Node-to-node repulsion of PD codes (EMU, LAMMPS); the master must be deformable
+    /// ([`crate::shortrange`]).
+    #[serde(alias = "short_range")]
+    ShortRange,
+}
+
+impl ContactMethod {
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactMethod::PointToSurface => "point-to-surface",
+            ContactMethod::ShortRange => "short-range",
+        }
+    }
 }
 
 impl Scene {
@@ -507,9 +532,24 @@ impl Scene {
                     format!("slave \"{}\" is rigid: the slave must be deformable (swap slave and master)", c.slave),
                 ));
             }
-            if let Some(m) = &c.method {
-                if !matches!(m.as_str(), "point-to-surface" | "short-range") {
-                    return Err(err("method", format!("contact method must be \"point-to-surface\" or \"short-range\", got \"{m}\"")));
+            if c.method == ContactMethod::ShortRange {
+                let m = body(&c.master, &format!("master = \"{}\"", c.master))?;
+                let needle = if self.text.contains("short_range") {
+                    "short_range"
+                } else {
+                    "short-range"
+                };
+                if m.kind == BodyKind::Rigid {
+                    return Err(err(
+                        needle,
+                        format!("the short-range method pushes particles apart, and the rigid master \"{}\" has none: use method = \"point-to-surface\" or a deformable master", c.master),
+                    ));
+                }
+                if c.radius.is_some() {
+                    return Err(err(
+                        "radius",
+                        "radius sets the Hertz penalty of the point-to-surface method; the short-range method has no penalty radius".to_string(),
+                    ));
                 }
             }
         }

@@ -208,18 +208,37 @@ fn check_finite(model: &Model, step: usize, what: &str) -> Result<()> {
 fn check_missed(model: &Model, step: usize, what: &str, dt: Option<f64>) -> Result<()> {
     let missed = model.missed_contacts();
     if missed > 0 {
-        let window: Vec<String> = model
-            .passes
-            .iter()
-            .filter(|p| p.missed > 0)
-            .map(|p| format!("{:.3e} m", p.law.window))
-            .collect();
+        let short: usize = model.short_range.iter().map(|p| p.missed).sum();
         let cause = match dt {
             Some(dt) => format!(
                 "the impact speed is too high for the time step dt = {dt:.3e} s (a particle moved through the window in one step), or the penalty is too soft for the load"
             ),
             None => "the load pushes particles through the surface: the penalty is too soft for the load (raise the contact radius R) or the load is too large".to_string(),
         };
+        if short == missed {
+            let d: Vec<String> = model
+                .short_range
+                .iter()
+                .filter(|p| p.missed > 0)
+                .map(|p| format!("{:.3e} m", p.distance))
+                .collect();
+            let cause = match dt {
+                Some(dt) => format!(
+                    "the impact speed is too high for the time step dt = {dt:.3e} s (a particle crossed the repulsion zone in one step)"
+                ),
+                None => "the load is more than the short-range repulsion can hold".to_string(),
+            };
+            return Err(Error::numerical(format!(
+                "missed contact at {what} {step}: {missed} slave particles went through the master's surface (short-range contact, d = {}); likely cause: {cause}",
+                d.join(", ")
+            )));
+        }
+        let window: Vec<String> = model
+            .passes
+            .iter()
+            .filter(|p| p.missed > 0)
+            .map(|p| format!("{:.3e} m", p.law.window))
+            .collect();
         return Err(Error::numerical(format!(
             "missed contact at {what} {step}: {missed} slave particles are behind a master segment by more than the contact window ({}); likely cause: {cause}",
             window.join(", ")
@@ -459,6 +478,11 @@ pub fn stable_time_step(model: &Model) -> f64 {
                                 contact[n as usize].max(p.weight * p.law.max_tangent());
                         }
                     }
+                }
+            }
+            for p in &model.short_range {
+                for (c, b) in contact.iter_mut().zip(p.stiffness_bound(k, pd)) {
+                    *c += b;
                 }
             }
             let omega2 = highest_eigenvalue(pd, &contact);

@@ -144,7 +144,7 @@ pub const STIFF_PENALTY: &str =
     "radius = 100.0              # a stiff penalty: penetration stays far below the approach";
 
 /// The solver block of an ADR run.
-const ADR_SOLVER: &str = "kind = \"adr\"\ntolerance = 1e-5\nmax_iterations = 100000";
+pub const ADR_SOLVER: &str = "kind = \"adr\"\ntolerance = 1e-5\nmax_iterations = 100000";
 
 /// Hertz sphere on a rigid plane, a/R = 0.15: a quarter of the shell sector of depth 3a.
 pub fn hertz_sphere_case(a_over_dx: f64) -> ValidationCase {
@@ -227,6 +227,98 @@ axis = "y"
             load,
             radius,
             e_stars: vec![("rigid plane".into(), e_star)],
+        },
+    }
+}
+
+/// A Hertz sphere (R = 1 m) pressed on a deformable block of the same material, contact
+/// radius `a`: the quarter shell sector of [`sphere_cap_case`] on a quarter block 3a × 3a × 3a
+/// fixed at its bottom, both with the symmetry planes x = 0 and y = 0, compared with Hertz for
+/// two bodies (`E* = E/(2(1 − ν²))`). `contact` is the body of the `[[contact]]` block
+/// (method and penalty lines); `lift` raises the sphere above the block's top face (the
+/// short-range method holds the surfaces 1.35Δ apart: lift by that much so that the run starts
+/// touching). The block is a finite half-space, so the figures are the method's and the
+/// block's together: compare methods on this scene with each other.
+pub fn sphere_on_block_case(
+    a: f64,
+    dx: f64,
+    m: f64,
+    solver: &str,
+    contact: &str,
+    lift: f64,
+    label: &str,
+) -> ValidationCase {
+    let radius = 1.0;
+    let e_star = PAPER_E_STAR;
+    let load = 4.0 * e_star * a * a * a / (3.0 * radius);
+    let scene = format!(
+        r#"# Hertz sphere: R = {radius} m, a/R = {ratio} on a deformable block (pdcontact sweep)
+[solver]
+{solver}
+
+[output]
+every = 1000000
+
+[[body]]
+name = "sphere"
+generator = {{ shape = "sphere_cap", radius = {radius}, half_width = {hw}, depth = {hw}, spacing = {dx}, center = [0.0, 0.0, {lift}] }}
+kinematics = "small"
+horizon_factor = {m}
+{mat}
+[[body]]
+name = "block"
+generator = {{ shape = "box", min = [0.0, 0.0, {bottom}], max = [{hw}, {hw}, -{radius}], spacing = {dx} }}
+kinematics = "small"
+horizon_factor = {m}
+{mat}
+[[load]]
+body = "sphere"
+set = "top"
+force = [0.0, 0.0, -{quarter:e}]   # a quarter of P = {load:e} N
+
+[[constraint]]
+body = "block"
+set = "bottom"
+fix = ["x", "y", "z"]
+
+[[contact]]
+slave = "sphere"
+master = "block"
+{contact}
+
+[[symmetry]]
+body = "sphere"
+axis = "x"
+
+[[symmetry]]
+body = "sphere"
+axis = "y"
+
+[[symmetry]]
+body = "block"
+axis = "x"
+
+[[symmetry]]
+body = "block"
+axis = "y"
+"#,
+        ratio = a / radius,
+        hw = 3.0 * a,
+        bottom = -radius - 3.0 * a,
+        mat = material(),
+        quarter = load / 4.0,
+    );
+    ValidationCase {
+        problem: Problem::Sphere,
+        set: Set::Hertz,
+        label: label.into(),
+        spacing: dx,
+        horizon_factor: m,
+        scene,
+        reference: Reference::Sphere {
+            load,
+            radius,
+            e_stars: vec![("two bodies".into(), e_star)],
         },
     }
 }

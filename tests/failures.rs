@@ -418,3 +418,49 @@ master = "floor"
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Short-range contact: a block thrown so fast at a deformable floor that its bottom particles
+/// go from above the repulsion zone to below the floor's surface in one step.
+#[test]
+fn short_range_missed_contact_of_a_fast_body() {
+    let text = r#"[solver]
+kind = "explicit"
+end_time = 0.001
+dt = 2e-5
+[output]
+every = 1
+folder = "out"
+[[body]]
+name = "block"
+generator = { shape = "box", min = [0.0, 0.0, 0.35], max = [1.0, 1.0, 0.85], spacing = 0.25 }
+velocity = [0.0, 0.0, -25000.0]
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[body]]
+name = "floor"
+generator = { shape = "box", min = [-0.25, -0.25, -0.5], max = [1.25, 1.25, 0.0], spacing = 0.25 }
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[constraint]]
+body = "floor"
+set = "bottom"
+fix = ["x", "y", "z"]
+[[contact]]
+slave = "block"
+master = "floor"
+method = "short-range"
+"#;
+    let f = failing_run("short-range-fast", text);
+    assert!(
+        f.message.contains("missed contact at step")
+            && f.message.contains("went through the master's surface")
+            && f.message.contains("d = 3.375e-1 m")
+            && f.message.contains("crossed the repulsion zone in one step"),
+        "{}",
+        f.message
+    );
+}

@@ -1,0 +1,386 @@
+//! `pdcontact sweep --case sphere`: speed against accuracy over a grid of spacings, horizons,
+//! contact methods and solvers, on the Hertz sphere of [`crate::validate`].
+//!
+//! The sphere has a/R = 0.3 (the convergence studies' sphere, [`STUDY_CONTACT_RADIUS`]): at
+//! a/R = 0.15 the same a/Δ costs eight times the particles, and the grid would not run in
+//! minutes on two cores. The FE points are measured at a/R = 0.15: they show the accuracy and
+//! cost of a converged finite-element solution, not the same scene.
+//!
+//! The point-to-surface method runs on the validation scene (sphere on a rigid plane). The
+//! short-range method needs particles on both sides and cannot push against a rigid plane,
+//! so both methods also run on the sphere pressed on a deformable block
+//! ([`sphere_on_block_case`]), compared with Hertz for two bodies: those points compare the
+//! methods with each other, not with the rigid-plane scene.
+//!
+//! Each run is one row of `sweep.json`; `speed_accuracy.svg` draws MRE against wall time on
+//! log axes, one series per scene, method and solver, with the Pareto front of the PD runs
+//! and the CalculiX points of docs/FE_REFERENCE.md.
+
+use std::path::Path;
+use std::time::Instant;
+
+use plotters::prelude::*;
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::validate::{
+    run_case, sphere_cap_case, sphere_on_block_case, ValidationCase, ADR_SOLVER, STIFF_PENALTY,
+    STUDY_CONTACT_RADIUS, STUDY_DAMPING, STUDY_END_TIME,
+};
+use crate::vtk::write_atomically;
+
+/// CalculiX's figures for the Hertz sphere at a/R = 0.15, as measured on this machine by
+/// `tools/fe_reference.sh` and tabulated in docs/FE_REFERENCE.md ("Results"): label, MRE,
+/// case wall time in seconds.
+pub const FE_POINTS: [(&str, f64, f64); 5] = [
+    ("CAX8 a/10", 0.00356, 8.2),
+    ("CAX8 a/20", 0.00356, 19.8),
+    ("C3D10 a/5", 0.00542, 21.5),
+    ("C3D10 a/10", 0.00340, 57.2),
+    ("C3D10 a/20", 0.00320, 319.3),
+];
+
+/// One run of the sweep.
+#[derive(Clone, Debug, Serialize)]
+pub struct SweepRun {
+    /// "point-to-surface" or "short-range".
+    pub method: String,
+    /// "adr" or "explicit".
+    pub solver: String,
+    /// "rigid plane" or "deformable block".
+    pub scene: String,
+    pub spacing: f64,
+    /// a/Δ.
+    pub a_over_spacing: f64,
+    pub horizon_factor: f64,
+    pub particles: usize,
+    pub mre: f64,
+    pub radius_error: f64,
+    pub force_balance_error: f64,
+    pub wall_seconds: f64,
+    pub iterations: usize,
+    /// Why the run failed (the other figures are then zero).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+}
+
+/// A point of the grid before it runs.
+pub struct SweepPoint {
+    pub method: &'static str,
+    pub solver: &'static str,
+    pub scene: &'static str,
+    pub case: ValidationCase,
+}
+
+/// The default grid: a/Δ = 2.5, 3.75, 5 and 7.5 (Δ = 0.12, 0.08, 0.06, 0.04 m), m = 3 and
+/// √10; ADR with the stiff penalty of the "hertz" validation set (R = 100 m) and, at the two
+/// coarsest spacings, damped explicit dynamics with the paper's penalty R = Δ/2 (as in
+/// `validate --study timestep`: the stiff penalty would need a step too small for a grid of
+/// minutes). The point-to-surface method runs on the rigid plane; the short-range method on the
+/// deformable block up to Δ = 0.06 m (its explicit runs simulate 0.06 s).
+pub fn sphere_grid() -> Vec<SweepPoint> {
+    let a = STUDY_CONTACT_RADIUS;
+    let explicit =
+        format!("kind = \"explicit\"\ndamping = {STUDY_DAMPING}\nend_time = {STUDY_END_TIME}");
+    let mut out = Vec::new();
+    for dx in [0.12, 0.08, 0.06, 0.04] {
+        for (mname, m) in [("3", 3.0), ("sqrt10", 10f64.sqrt())] {
+            for (solver, block, penalty) in [
+                ("adr", ADR_SOLVER, STIFF_PENALTY),
+                ("explicit", explicit.as_str(), ""),
+            ] {
+                if solver == "explicit" && dx < 0.07 {
+                    continue;
+                }
+                let tag = format!("{solver}-dx{dx}-m{mname}");
+                out.push(SweepPoint {
+                    method: "point-to-surface",
+                    solver,
+                    scene: "rigid plane",
+                    case: sphere_cap_case(a, dx, m, block, penalty, &format!("p2s-plane-{tag}")),
+                });
+                if dx < 0.05 {
+                    continue;
+                }
+                // The block's slowest mode is slower than the sector's: three times the
+                // simulated time before the block runs settle (at 0.02 s the contact force
+                // was still 6-13 % short of the load).
+                let block = if solver == "explicit" {
+                    block.replace(
+                        &format!("end_time = {STUDY_END_TIME}"),
+                        &format!("end_time = {}", 3.0 * STUDY_END_TIME),
+                    )
+                } else {
+                    block.to_string()
+                };
+                out.push(SweepPoint {
+                    method: "short-range",
+                    solver,
+                    scene: "deformable block",
+                    case: sphere_on_block_case(
+                        a,
+                        dx,
+                        m,
+                        &block,
+                        "method = \"short-range\"",
+                        crate::shortrange::DISTANCE * dx,
+                        &format!("short-range-block-{tag}"),
+                    ),
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Runs the points into `folder`, then writes `sweep.json` and `speed_accuracy.svg`.
+pub fn run_sweep(points: Vec<SweepPoint>, folder: &Path, quiet: bool) -> Result<Vec<SweepRun>> {
+    std::fs::create_dir_all(folder).map_err(|e| Error::output(folder, e))?;
+    let total = points.len();
+    let mut runs = Vec::new();
+    for (k, p) in points.into_iter().enumerate() {
+        if !quiet {
+            eprintln!(
+                "sweep {}/{total}: {} {} on the {}, Δ = {} m, m = {:.3} ...",
+                k + 1,
+                p.method,
+                p.solver,
+                p.scene,
+                p.case.spacing,
+                p.case.horizon_factor
+            );
+        }
+        let start = Instant::now();
+        let mut run = SweepRun {
+            method: p.method.into(),
+            solver: p.solver.into(),
+            scene: p.scene.into(),
+            spacing: p.case.spacing,
+            a_over_spacing: STUDY_CONTACT_RADIUS / p.case.spacing,
+            horizon_factor: p.case.horizon_factor,
+            particles: 0,
+            mre: 0.0,
+            radius_error: 0.0,
+            force_balance_error: 0.0,
+            wall_seconds: 0.0,
+            iterations: 0,
+            error: None,
+        };
+        match run_case(&p.case, folder, true) {
+            Ok(rows) => {
+                let r = &rows[0];
+                run.particles = r.particles;
+                run.mre = r.mre;
+                run.radius_error = r.radius_error;
+                run.force_balance_error = r.force_balance_error;
+                run.wall_seconds = r.wall_seconds;
+                run.iterations = r.iterations;
+            }
+            Err(e) => {
+                run.wall_seconds = start.elapsed().as_secs_f64();
+                run.error = Some(e.to_string());
+            }
+        }
+        runs.push(run);
+    }
+    let json = serde_json::to_string_pretty(&runs).map_err(|e| Error::output(folder, e))?;
+    let path = folder.join("sweep.json");
+    write_atomically(&path, |w| std::io::Write::write_all(w, json.as_bytes()))?;
+    write_chart(&folder.join("speed_accuracy.svg"), &runs)?;
+    Ok(runs)
+}
+
+/// The runs that no other run beats in both wall time and MRE, fastest first.
+pub fn pareto_front(runs: &[SweepRun]) -> Vec<&SweepRun> {
+    let mut ok: Vec<&SweepRun> = runs.iter().filter(|r| r.error.is_none()).collect();
+    ok.sort_by(|a, b| a.wall_seconds.total_cmp(&b.wall_seconds));
+    let mut front = Vec::new();
+    let mut best = f64::INFINITY;
+    for r in ok {
+        if r.mre < best {
+            best = r.mre;
+            front.push(r);
+        }
+    }
+    front
+}
+
+/// The table of the runs (Markdown).
+pub fn table(runs: &[SweepRun]) -> String {
+    let mut s = String::from(
+        "| scene | method | solver | Δ (m) | a/Δ | m | particles | MRE | radius error | force balance | iterations | wall s |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in runs {
+        match &r.error {
+            None => s.push_str(&format!(
+                "| {} | {} | {} | {} | {:.2} | {:.3} | {} | {:.2} % | {:+.2} % | {:.1e} | {} | {:.1} |\n",
+                r.scene,
+                r.method,
+                r.solver,
+                r.spacing,
+                r.a_over_spacing,
+                r.horizon_factor,
+                r.particles,
+                100.0 * r.mre,
+                100.0 * r.radius_error,
+                r.force_balance_error,
+                r.iterations,
+                r.wall_seconds
+            )),
+            Some(e) => s.push_str(&format!(
+                "| {} | {} | {} | {} | {:.2} | {:.3} | failed: {} | | | | | {:.1} |\n",
+                r.scene,
+                r.method,
+                r.solver,
+                r.spacing,
+                r.a_over_spacing,
+                r.horizon_factor,
+                e.replace('|', "/"),
+                r.wall_seconds
+            )),
+        }
+    }
+    s
+}
+
+fn series_name(r: &SweepRun) -> String {
+    format!("{}, {}, {}", r.method, r.solver, r.scene)
+}
+
+/// MRE (%) against wall time (s), log axes.
+fn write_chart(path: &Path, runs: &[SweepRun]) -> Result<()> {
+    let ok: Vec<&SweepRun> = runs
+        .iter()
+        .filter(|r| r.error.is_none() && r.mre > 0.0)
+        .collect();
+    let mut xs: Vec<f64> = ok.iter().map(|r| r.wall_seconds.max(1e-2)).collect();
+    let mut ys: Vec<f64> = ok.iter().map(|r| 100.0 * r.mre).collect();
+    xs.extend(FE_POINTS.iter().map(|p| p.2));
+    ys.extend(FE_POINTS.iter().map(|p| 100.0 * p.1));
+    let (xmin, xmax) = bounds(&xs);
+    let (ymin, ymax) = bounds(&ys);
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (960, 640)).into_drawing_area();
+        let draw = |e: &dyn std::fmt::Display| Error::output(path, e.to_string());
+        root.fill(&WHITE).map_err(|e| draw(&e))?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                format!("Hertz sphere, a/R = {STUDY_CONTACT_RADIUS}: MRE against wall time"),
+                ("sans-serif", 18),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d((xmin..xmax).log_scale(), (ymin..ymax).log_scale())
+            .map_err(|e| draw(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc("wall time (s), 2 cores")
+            .y_desc("MRE (%)")
+            .draw()
+            .map_err(|e| draw(&e))?;
+        let mut names: Vec<String> = ok.iter().map(|r| series_name(r)).collect();
+        names.sort();
+        names.dedup();
+        let colours = [RED, BLUE, GREEN, MAGENTA, CYAN, BLACK];
+        for (k, name) in names.iter().enumerate() {
+            let c = colours[k % colours.len()];
+            let pts: Vec<&&SweepRun> = ok.iter().filter(|r| &series_name(r) == name).collect();
+            chart
+                .draw_series(pts.iter().map(|r| {
+                    let at = (r.wall_seconds.max(1e-2), 100.0 * r.mre);
+                    EmptyElement::at(at)
+                        + Circle::new((0, 0), 4, c.filled())
+                        + Text::new(
+                            format!("Δ{} m{:.2}", r.spacing, r.horizon_factor),
+                            (5, -10),
+                            ("sans-serif", 10).into_font(),
+                        )
+                }))
+                .map_err(|e| draw(&e))?
+                .label(name.clone())
+                .legend(move |(x, y)| Circle::new((x, y), 4, c.filled()));
+        }
+        let orange = RGBColor(230, 120, 0);
+        chart
+            .draw_series(FE_POINTS.iter().map(|&(label, mre, t)| {
+                EmptyElement::at((t, 100.0 * mre))
+                    + TriangleMarker::new((0, 0), 6, orange.filled())
+                    + Text::new(label, (6, 4), ("sans-serif", 10).into_font())
+            }))
+            .map_err(|e| draw(&e))?
+            .label("CalculiX FE, a/R = 0.15 (docs/FE_REFERENCE.md)")
+            .legend(move |(x, y)| TriangleMarker::new((x, y), 6, orange.filled()));
+        let front: Vec<(f64, f64)> = pareto_front(runs)
+            .iter()
+            .map(|r| (r.wall_seconds.max(1e-2), 100.0 * r.mre))
+            .collect();
+        chart
+            .draw_series(LineSeries::new(front, BLACK.stroke_width(2)))
+            .map_err(|e| draw(&e))?
+            .label("Pareto front of the PD runs")
+            .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK));
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(|e| draw(&e))?;
+        root.present().map_err(|e| draw(&e))?;
+    }
+    write_atomically(path, |w| std::io::Write::write_all(w, svg.as_bytes()))
+}
+
+/// A log axis range around the values.
+fn bounds(v: &[f64]) -> (f64, f64) {
+    let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return (0.1, 10.0);
+    }
+    (lo / 1.5, hi * 1.5)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(t: f64, mre: f64) -> SweepRun {
+        SweepRun {
+            method: "point-to-surface".into(),
+            solver: "adr".into(),
+            scene: "rigid plane".into(),
+            spacing: 0.1,
+            a_over_spacing: 3.0,
+            horizon_factor: 3.0,
+            particles: 1,
+            mre,
+            radius_error: 0.0,
+            force_balance_error: 0.0,
+            wall_seconds: t,
+            iterations: 1,
+            error: None,
+        }
+    }
+
+    #[test]
+    fn pareto_front_keeps_the_unbeaten_runs() {
+        let mut failed = run(0.1, 0.001);
+        failed.error = Some("blew up".into());
+        let runs = vec![
+            run(1.0, 0.05),
+            run(2.0, 0.06),
+            run(3.0, 0.02),
+            failed,
+            run(0.5, 0.08),
+            run(9.0, 0.02),
+        ];
+        let front: Vec<(f64, f64)> = pareto_front(&runs)
+            .iter()
+            .map(|r| (r.wall_seconds, r.mre))
+            .collect();
+        assert_eq!(front, vec![(0.5, 0.08), (1.0, 0.05), (3.0, 0.02)]);
+    }
+}
