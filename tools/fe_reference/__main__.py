@@ -65,13 +65,16 @@ def main(argv=None):
     ap.add_argument("--rematch", type=int, default=2)
     ap.add_argument("--nlgeom", action="store_true", help="finite strain (not Hertz's model)")
     ap.add_argument("--profiles", action="store_true", help="also print p(r) of each case")
+    ap.add_argument("--contact-radius", type=float, default=0.15, metavar="A",
+                    help="Hertz contact radius a in m (the load follows from it; default 0.15, "
+                         "a/R = 0.15; `pdcontact sweep` and `validate --study` use 0.3)")
     args = ap.parse_args(argv)
 
     from . import run  # imports gmsh: after argument parsing, so --help works without it
 
     t0 = time.perf_counter()
     cases = args.case or [c for c in SERIES if not (args.quick and c in QUICK_SKIPS)]
-    problem = Problem()
+    problem = Problem(contact_radius=args.contact_radius)
     print(f"sphere R = {problem.radius:g} m, E = {problem.youngs:.3g} Pa, nu = "
           f"{problem.poisson:g}; P = {problem.load:.6g} N for a = {problem.contact_radius:g} m, "
           f"p0 = {problem.p0:.6g} Pa")
