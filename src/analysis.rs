@@ -195,23 +195,34 @@ pub struct Accuracy {
     pub samples: usize,
 }
 
-/// Accuracy of a patch against `p(r) = p0 √(1 − (r/a)²)`.
-pub fn elliptic_accuracy(patch: &ContactPatch, a: f64, p0: f64) -> Accuracy {
-    let theory = |r: f64| p0 * (1.0 - (r / a).powi(2)).max(0.0).sqrt();
-    let inside: Vec<&(u32, f64, f64)> = patch
+/// MRE of METHOD.md §7: the mean of `|p_i − theory(r_i)| / p0` over the patch's particles
+/// within `r_i ≤ 0.8 a`, loaded or not; with their count (NaN MRE when there are none).
+fn mean_relative_error(
+    patch: &ContactPatch,
+    a: f64,
+    p0: f64,
+    theory: impl Fn(f64) -> f64,
+) -> (f64, usize) {
+    let (sum, n) = patch
         .points
         .iter()
         .filter(|(_, r, _)| *r <= 0.8 * a)
-        .collect();
-    let mre = if inside.is_empty() {
+        .fold((0.0, 0usize), |(s, n), &(_, r, p)| {
+            (s + (p - theory(r)).abs(), n + 1)
+        });
+    let mre = if n == 0 {
         f64::NAN
     } else {
-        inside
-            .iter()
-            .map(|(_, r, p)| (p - theory(*r)).abs())
-            .sum::<f64>()
-            / (inside.len() as f64 * p0)
+        sum / (n as f64 * p0)
     };
+    (mre, n)
+}
+
+/// Accuracy of a patch against `p(r) = p0 √(1 − (r/a)²)`.
+pub fn elliptic_accuracy(patch: &ContactPatch, a: f64, p0: f64) -> Accuracy {
+    let (mre, samples) = mean_relative_error(patch, a, p0, |r| {
+        p0 * (1.0 - (r / a).powi(2)).max(0.0).sqrt()
+    });
     let pts: Vec<(f64, f64)> = patch.points.iter().map(|&(_, r, p)| (r, p)).collect();
     let (fa, fp) = fit_elliptic(&pts).unwrap_or((f64::NAN, f64::NAN));
     Accuracy {
@@ -219,7 +230,7 @@ pub fn elliptic_accuracy(patch: &ContactPatch, a: f64, p0: f64) -> Accuracy {
         radius_error: fa / a - 1.0,
         fitted_radius: fa,
         fitted_peak: fp,
-        samples: inside.len(),
+        samples,
     }
 }
 
@@ -228,22 +239,9 @@ pub fn elliptic_accuracy(patch: &ContactPatch, a: f64, p0: f64) -> Accuracy {
 /// `p0 = P/(π a)`, the pressure at the centre, over `|x| ≤ 0.8 a`.
 pub fn punch_accuracy(patch: &ContactPatch, a: f64, load_per_length: f64) -> Accuracy {
     let p0 = load_per_length / (std::f64::consts::PI * a);
-    let theory =
-        |x: f64| load_per_length / (std::f64::consts::PI * (a * a - x * x).max(0.0).sqrt());
-    let inside: Vec<&(u32, f64, f64)> = patch
-        .points
-        .iter()
-        .filter(|(_, r, _)| *r <= 0.8 * a)
-        .collect();
-    let mre = if inside.is_empty() {
-        f64::NAN
-    } else {
-        inside
-            .iter()
-            .map(|(_, r, p)| (p - theory(*r)).abs())
-            .sum::<f64>()
-            / (inside.len() as f64 * p0)
-    };
+    let (mre, samples) = mean_relative_error(patch, a, p0, |x| {
+        load_per_length / (std::f64::consts::PI * (a * a - x * x).max(0.0).sqrt())
+    });
     // The loaded width: the farthest particle carrying pressure.
     let width = patch
         .points
@@ -256,7 +254,7 @@ pub fn punch_accuracy(patch: &ContactPatch, a: f64, load_per_length: f64) -> Acc
         radius_error: width / a - 1.0,
         fitted_radius: width,
         fitted_peak: patch.peak,
-        samples: inside.len(),
+        samples,
     }
 }
 

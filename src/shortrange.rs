@@ -105,8 +105,6 @@ pub struct ShortRangePass {
 /// the real particle each stands for, the image's mask, and the whole volume of each.
 struct Side {
     pos: Vec<Vec3>,
-    source: Vec<u32>,
-    mask: Vec<u8>,
     volume: Vec<f64>,
     /// Outward normals now ([`slave_normal`]).
     normal: Vec<Vec3>,
@@ -117,15 +115,11 @@ fn side(b: &PdBody, surface: &[u32]) -> Side {
     let vol = &b.case.particles.volume;
     let mut s = Side {
         pos: Vec::new(),
-        source: Vec::new(),
-        mask: Vec::new(),
         volume: Vec::new(),
         normal: Vec::new(),
     };
     for &i in surface {
         s.pos.push(b.position(i as usize));
-        s.source.push(i);
-        s.mask.push(0);
         s.volume.push(vol[i as usize] / g.share(i as usize));
         s.normal.push(slave_normal(b, i as usize));
     }
@@ -133,8 +127,6 @@ fn side(b: &PdBody, surface: &[u32]) -> Side {
     for (&src, &mask) in g.source.iter().zip(&g.mask) {
         if is_surface[src as usize] {
             s.pos.push(g.reflect(b.position(src as usize), mask));
-            s.source.push(src);
-            s.mask.push(mask);
             s.volume.push(vol[src as usize] / g.share(src as usize));
             let n = slave_normal(b, src as usize);
             s.normal
