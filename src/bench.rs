@@ -194,10 +194,13 @@ fn run_in_pool(spec: &LatticeSphere) -> BenchReport {
     let bonds = build_bonds(&x, horizon);
     let volume = dx * dx * dx;
     let c = micromodulus(YOUNGS, horizon);
-    let weight: Vec<f64> = bonds
+    let weight: Vec<f32> = bonds
         .length
         .par_iter()
-        .map(|&l| c * volume_correction(l, horizon, dx) * volume * volume / l)
+        .map(|&l| {
+            let l = f64::from(l);
+            (c * volume_correction(l, horizon, dx) * volume * volume / l) as f32
+        })
         .collect();
     let mass = DENSITY * volume;
     let mut y = x.clone();
@@ -237,9 +240,7 @@ fn run_in_pool(spec: &LatticeSphere) -> BenchReport {
     let loop_seconds = start.elapsed().as_secs_f64();
     let final_energy = energy(&x, &y, &v, &bonds, &weight, mass);
     let directed = bonds.len();
-    let bond_bytes = bonds.partner.len() * std::mem::size_of::<u32>()
-        + (bonds.length.len() + weight.len()) * std::mem::size_of::<f64>()
-        + bonds.offsets.len() * std::mem::size_of::<usize>();
+    let bond_bytes = bonds.bytes() + weight.len() * std::mem::size_of::<f32>();
     BenchReport {
         particles: n,
         bonds_per_particle: directed as f64 / n.max(1) as f64,
@@ -262,7 +263,7 @@ fn energy(
     y: &[Vec3],
     v: &[Vec3],
     bonds: &crate::neighbours::BondList,
-    weight: &[f64],
+    weight: &[f32],
     mass: f64,
 ) -> f64 {
     let kinetic: f64 = v.par_iter().map(|v| 0.5 * mass * v.norm_squared()).sum();
@@ -272,8 +273,8 @@ fn energy(
             bonds
                 .range(i)
                 .map(|b| {
-                    let s = (y[bonds.partner[b] as usize] - y[i]).norm() - bonds.length[b];
-                    0.25 * weight[b] * s * s
+                    let s = (y[bonds.partner[b] as usize] - y[i]).norm() - bonds.length(b);
+                    0.25 * f64::from(weight[b]) * s * s
                 })
                 .sum::<f64>()
         })

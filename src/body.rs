@@ -55,7 +55,7 @@ pub struct PdBody {
     /// Micromodulus `c`.
     pub micromodulus: f64,
     /// Per directed bond: `c G v_c V_i V_j / L`, N/m.
-    pub bond_weight: Vec<f64>,
+    pub bond_weight: Vec<f32>,
     /// Per particle: `Σ_j w_ij`, the sum of its bond stiffnesses (N/m).
     pub stiffness: Vec<f64>,
     /// `ρ V_i`.
@@ -118,8 +118,8 @@ impl PdBody {
             for b in bonds.range(i) {
                 let j = bonds.partner[b] as usize;
                 let w =
-                    c * case.correction.bond_factor[b] * vol[i] * partner_vol[j] / bonds.length[b];
-                bond_weight.push(w);
+                    c * case.correction.bond_factor[b] * vol[i] * partner_vol[j] / bonds.length(b);
+                bond_weight.push(w as f32);
                 stiffness[i] += w;
             }
         }
@@ -184,13 +184,13 @@ impl PdBody {
                     .map(|b| {
                         let j = bonds.partner[b] as usize;
                         let stretch = match self.kinematics {
-                            Kinematics::Finite => (pos[j] - yi).norm() - bonds.length[b],
+                            Kinematics::Finite => (pos[j] - yi).norm() - bonds.length(b),
                             Kinematics::Small => {
                                 let xi = self.reference[j] - self.reference[i];
-                                (pos[j] - yi - xi).dot(&xi) / bonds.length[b]
+                                (pos[j] - yi - xi).dot(&xi) / bonds.length(b)
                             }
                         };
-                        0.25 * self.bond_weight[b] * stretch * stretch
+                        0.25 * f64::from(self.bond_weight[b]) * stretch * stretch
                     })
                     .sum::<f64>()
             })

@@ -305,6 +305,9 @@ impl PdCase {
 
 /// Keeps only bonds not longer than `reach`.
 fn trim_bonds(bonds: BondList, reach: f64) -> BondList {
+    // Compared in the precision the lengths are stored in (rounding is monotone, so no bond
+    // within reach is dropped).
+    let reach = reach as f32;
     if bonds.length.iter().all(|&l| l <= reach) {
         return bonds;
     }

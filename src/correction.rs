@@ -113,7 +113,7 @@ fn relative_energies(
             let mut w = [0.0; 3];
             for b in bonds.range(i) {
                 let j = bonds.partner[b] as usize;
-                let len = bonds.length[b];
+                let len = bonds.length(b);
                 let d = (position[j] - position[i]) / len;
                 let n2 = [d.x * d.x, d.y * d.y, d.z * d.z];
                 let a =
@@ -158,7 +158,7 @@ impl BondGeometry {
             .flat_map_iter(|i| {
                 bonds.range(i).map(move |b| {
                     let j = bonds.partner[b] as usize;
-                    let len = bonds.length[b];
+                    let len = bonds.length(b);
                     let d = (position[j] - position[i]) / len;
                     BondDatum {
                         n2: [(d.x * d.x) as f32, (d.y * d.y) as f32, (d.z * d.z) as f32],
@@ -246,7 +246,7 @@ pub fn surface_correction_with(
         CorrectionMethod::None => {
             let bond_factor = (0..n)
                 .flat_map(|i| bonds.range(i))
-                .map(|b| volume_correction(bonds.length[b], horizon, spacing))
+                .map(|b| volume_correction(bonds.length(b), horizon, spacing))
                 .collect();
             return SurfaceCorrection {
                 g: vec![[1.0; 3]; n],
@@ -317,7 +317,7 @@ pub fn surface_correction_with(
             let operand = &operand;
             bonds.range(i).map(move |b| {
                 let j = bonds.partner[b] as usize;
-                let len = bonds.length[b];
+                let len = bonds.length(b);
                 let d = (position[j] - position[i]) / len;
                 let n2 = [d.x * d.x, d.y * d.y, d.z * d.z];
                 ellipsoid(n2, combine(&operand[i], &operand[source[j]]))

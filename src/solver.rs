@@ -119,10 +119,10 @@ fn bond_density(model: &Model) -> Vec<Vec<f64>> {
                     .map(|i| {
                         let mut row = [0.0f64; 3];
                         for b in bonds.range(i) {
-                            let n = (x[bonds.partner[b] as usize] - x[i]) / bonds.length[b];
+                            let n = (x[bonds.partner[b] as usize] - x[i]) / bonds.length(b);
                             let l1 = n.x.abs() + n.y.abs() + n.z.abs();
                             for a in 0..3 {
-                                row[a] += pd.bond_weight[b] * n[a].abs() * l1;
+                                row[a] += f64::from(pd.bond_weight[b]) * n[a].abs() * l1;
                             }
                         }
                         0.5 * row[0].max(row[1]).max(row[2])
@@ -519,8 +519,8 @@ fn highest_eigenvalue(pd: &crate::body::PdBody, contact: &[f64]) -> f64 {
                 let mut acc = Vec3::zeros();
                 for b in bonds.range(i) {
                     let j = bonds.partner[b] as usize;
-                    let e = (x[j] - x[i]) / bonds.length[b];
-                    acc += e * (pd.bond_weight[b] * (ext[i] - ext[j]).dot(&e));
+                    let e = (x[j] - x[i]) / bonds.length(b);
+                    acc += e * (f64::from(pd.bond_weight[b]) * (ext[i] - ext[j]).dot(&e));
                 }
                 (acc + ext[i] * contact[i]) * inv_sqrt_m[i]
             })
@@ -531,10 +531,10 @@ fn highest_eigenvalue(pd: &crate::body::PdBody, contact: &[f64]) -> f64 {
         .map(|i| {
             let mut row = [0.0f64; 3];
             for b in bonds.range(i) {
-                let e = (x[bonds.partner[b] as usize] - x[i]) / bonds.length[b];
+                let e = (x[bonds.partner[b] as usize] - x[i]) / bonds.length(b);
                 let l1 = e.x.abs() + e.y.abs() + e.z.abs();
                 for a in 0..3 {
-                    row[a] += 2.0 * pd.bond_weight[b] * e[a].abs() * l1;
+                    row[a] += 2.0 * f64::from(pd.bond_weight[b]) * e[a].abs() * l1;
                 }
             }
             (row[0].max(row[1]).max(row[2]) + contact[i]) / pd.mass[i]

@@ -70,7 +70,7 @@ pub fn detect_surface(
             let mut grad = Vec3::zeros();
             for b in neighbours.range(i) {
                 let j = neighbours.partner[b] as usize;
-                let r = neighbours.length[b];
+                let r = neighbours.length(b);
                 let f = kernel_factor(r, h);
                 if f == 0.0 {
                     continue;

@@ -95,7 +95,7 @@ fn corrected_energy_density_under_uniaxial_strain() {
                 let mut y = xi;
                 y[axis] *= 1.0 + eps;
                 let dl = y.norm() - xi.norm();
-                w += 0.25 * body.bond_weight[b] * dl * dl;
+                w += 0.25 * f64::from(body.bond_weight[b]) * dl * dl;
             }
             let density = w / body.case.particles.volume[i];
             worst = worst.max((density / bulk - 1.0).abs());
