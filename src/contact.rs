@@ -491,6 +491,12 @@ impl ContactPass {
         v.built = true;
     }
 
+    /// Rebuilds the Verlet list now, whatever the motion since the last rebuild (for timing).
+    pub fn rebuild_verlet(&mut self, bodies: &[Body]) {
+        let sb = bodies[self.slave].as_pd().expect("slave is deformable");
+        self.rebuild(sb, MasterView::of(&bodies[self.master]));
+    }
+
     /// Finds the contacts of this pass at the current positions (broad phase as needed, then
     /// narrow phase). Forces are computed, not applied.
     pub fn detect(&mut self, bodies: &[Body]) {

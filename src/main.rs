@@ -116,13 +116,21 @@ enum Command {
         #[arg(
             long,
             value_name = "DX",
-            required_unless_present = "adr",
-            conflicts_with = "adr"
+            required_unless_present_any = ["adr", "pipeline"],
+            conflicts_with_all = ["adr", "pipeline"]
         )]
         lattice_sphere: Option<f64>,
-        /// Instead: time one ADR iteration against one bare bond-force pass on this scene.
-        #[arg(long, value_name = "SCENE")]
+        /// Instead: time one ADR iteration against one bare bond-force pass on this scene, and
+        /// its contact search (Verlet rebuild, point-to-surface pass).
+        #[arg(long, value_name = "SCENE", conflicts_with = "pipeline")]
         adr: Option<PathBuf>,
+        /// Instead: time each stage from this mesh file to a case folder (import, neighbours,
+        /// surface detection, correction, VTU writing), with throughput and peak memory.
+        #[arg(long, value_name = "MESH")]
+        pipeline: Option<PathBuf>,
+        /// With --pipeline: grid spacing Δ (default: the median element edge).
+        #[arg(long)]
+        spacing: Option<f64>,
         /// Horizon factor m (δ = m·Δ); 3.0002 keeps bonds of length exactly 3Δ in.
         #[arg(long, default_value_t = pdcontact::bench::DEFAULT_HORIZON_FACTOR)]
         horizon_factor: f64,
@@ -316,6 +324,8 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
         Command::Bench {
             lattice_sphere,
             adr,
+            pipeline,
+            spacing,
             horizon_factor,
             steps,
             threads,
@@ -324,6 +334,24 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             if let Some(scene) = adr {
                 let scene = pdcontact::scene::Scene::load(&scene)?;
                 let report = pdcontact::bench::run_adr(&scene, steps, threads)?;
+                if json {
+                    println!("{}", to_json(&report));
+                } else {
+                    print!("{}", report.to_text());
+                }
+                return Ok(Outcome::Done);
+            }
+            if let Some(mesh) = pipeline {
+                let options = pdcontact::case::CaseOptions {
+                    spacing,
+                    horizon_factor: if horizon_factor == pdcontact::bench::DEFAULT_HORIZON_FACTOR {
+                        pdcontact::case::DEFAULT_HORIZON_FACTOR
+                    } else {
+                        horizon_factor
+                    },
+                    ..Default::default()
+                };
+                let report = pdcontact::bench::run_pipeline(&mesh, options, threads)?;
                 if json {
                     println!("{}", to_json(&report));
                 } else {

@@ -974,45 +974,102 @@ pub const STUDY_DAMPING: f64 = 1500.0;
 /// e^{−c t} = e^{−30} by then.
 pub const STUDY_END_TIME: f64 = 0.02;
 
-/// The study's points: `(label, x on the chart, case)`.
-pub fn study_cases(study: Study) -> Vec<(String, f64, ValidationCase)> {
+/// Spacing of the horizon study at fixed Δ (the paper's reading), and the horizon of its
+/// fixed-δ series (m-convergence: δ = 3 × 0.04 m held, Δ = δ/m).
+const HORIZON_STUDY_SPACING: f64 = 0.04;
+
+/// The horizon factors of the paper's study: its 7th to 10th nearest-neighbour shells.
+const HORIZON_FACTORS: [(&str, f64); 4] = [("√8", 8.0), ("3", 9.0), ("√10", 10.0), ("√13", 13.0)];
+
+/// One point of a study: its label, its x on the chart, the chart series it belongs to, and
+/// the case.
+pub struct StudyPoint {
+    pub label: String,
+    pub x: f64,
+    pub series: &'static str,
+    pub case: ValidationCase,
+}
+
+/// The study's points. The horizon study has two series: m varied at fixed Δ, as the paper
+/// varies it (δ = mΔ grows with m), and m varied at fixed δ (Δ = δ/m shrinks with m), the
+/// m-convergence of the peridynamics literature, whose limit is the model at that δ.
+pub fn study_cases(study: Study) -> Vec<StudyPoint> {
     let a = STUDY_CONTACT_RADIUS;
     match study {
         Study::Spacing => [0.12, 0.08, 0.06, 0.04]
             .into_iter()
-            .map(|dx| {
-                let label = format!("study-spacing-{dx}");
-                (
-                    format!("Δ = {dx} m"),
+            .map(|dx| StudyPoint {
+                label: format!("Δ = {dx} m"),
+                x: dx,
+                series: "m = 3",
+                case: sphere_cap_case(
+                    a,
                     dx,
-                    sphere_cap_case(a, dx, 3.0, ADR_SOLVER, STIFF_PENALTY, &label),
-                )
+                    3.0,
+                    ADR_SOLVER,
+                    STIFF_PENALTY,
+                    &format!("study-spacing-{dx}"),
+                ),
             })
             .collect(),
-        Study::Horizon => [("√8", 8f64.sqrt()), ("3", 3.0), ("√10", 10f64.sqrt()), ("√13", 13f64.sqrt())]
-            .into_iter()
-            .map(|(name, m)| {
-                let label = format!("study-horizon-{m:.3}");
-                (
-                    format!("m = {name}"),
-                    m,
-                    sphere_cap_case(a, 0.04, m, ADR_SOLVER, STIFF_PENALTY, &label),
-                )
-            })
-            .collect(),
+        Study::Horizon => {
+            let dx = HORIZON_STUDY_SPACING;
+            let delta = 3.0 * dx;
+            let fixed_spacing = HORIZON_FACTORS.iter().map(|&(name, m2)| {
+                let m = f64::sqrt(m2);
+                StudyPoint {
+                    label: format!("m = {name}, Δ = {dx} m"),
+                    x: m,
+                    series: "fixed Δ = 0.04 m (δ = mΔ)",
+                    case: sphere_cap_case(
+                        a,
+                        dx,
+                        m,
+                        ADR_SOLVER,
+                        STIFF_PENALTY,
+                        &format!("study-horizon-{m:.3}"),
+                    ),
+                }
+            });
+            let fixed_horizon = HORIZON_FACTORS.iter().map(|&(name, m2)| {
+                let m = f64::sqrt(m2);
+                let spacing = delta / m;
+                StudyPoint {
+                    label: format!("m = {name}, δ = {delta} m"),
+                    x: m,
+                    series: "fixed δ = 0.12 m (Δ = δ/m)",
+                    case: sphere_cap_case(
+                        a,
+                        spacing,
+                        m,
+                        ADR_SOLVER,
+                        STIFF_PENALTY,
+                        &format!("study-horizon-fixed-delta-{m:.3}"),
+                    ),
+                }
+            });
+            fixed_spacing.chain(fixed_horizon).collect()
+        }
         Study::Timestep => [1e-5, 5e-6, 1e-6]
             .into_iter()
             .map(|dt: f64| {
-                let label = format!("study-timestep-{dt:e}");
                 let solver = format!(
                     "kind = \"explicit\"\ndt = {dt:e}\ndamping = {STUDY_DAMPING}\nend_time = {STUDY_END_TIME}"
                 );
-                (
-                    format!("dt = {dt:e} s"),
-                    dt * 1e6,
+                StudyPoint {
+                    label: format!("dt = {dt:e} s"),
+                    x: dt * 1e6,
+                    series: "Δ = 0.08 m, m = 3",
                     // The paper's penalty (R = Δ/2): the stiff one would need dt < 1e-6 s.
-                    sphere_cap_case(a, 0.08, 3.0, &solver, "", &label),
-                )
+                    case: sphere_cap_case(
+                        a,
+                        0.08,
+                        3.0,
+                        &solver,
+                        "",
+                        &format!("study-timestep-{dt:e}"),
+                    ),
+                }
             })
             .collect(),
     }
@@ -1024,15 +1081,16 @@ pub fn run_study(study: Study, folder: &Path, quiet: bool) -> Result<Selection> 
     std::fs::create_dir_all(folder).map_err(|e| Error::output(folder, e))?;
     let mut rows = Vec::new();
     let mut failures = Vec::new();
-    let mut points: Vec<(f64, f64)> = Vec::new();
-    for (name, x, case) in study_cases(study) {
+    let mut points: Vec<(&str, f64, f64)> = Vec::new();
+    for point in study_cases(study) {
+        let name = &point.label;
         if !quiet {
             eprintln!("{} study: {name} ...", study.name());
         }
-        match run_case(&case, folder, quiet) {
+        match run_case(&point.case, folder, quiet) {
             Ok(r) => {
                 for mut row in r {
-                    points.push((x, 100.0 * row.mre));
+                    points.push((point.series, point.x, 100.0 * row.mre));
                     row.variant = name.clone();
                     rows.push(row);
                 }
@@ -1045,16 +1103,16 @@ pub fn run_study(study: Study, folder: &Path, quiet: bool) -> Result<Selection> 
     Ok(Selection { rows, failures })
 }
 
-/// MRE (%) against the study's parameter.
-fn write_study_chart(path: &Path, study: Study, points: &[(f64, f64)]) -> Result<()> {
+/// MRE (%) against the study's parameter, one line per series.
+fn write_study_chart(path: &Path, study: Study, points: &[(&str, f64, f64)]) -> Result<()> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
         let draw = |e: &dyn std::fmt::Display| Error::output(path, e.to_string());
         root.fill(&WHITE).map_err(|e| draw(&e))?;
-        let xmax = points.iter().map(|p| p.0).fold(0.0, f64::max) * 1.15 + 1e-12;
-        let xmin = points.iter().map(|p| p.0).fold(xmax, f64::min) * 0.85;
-        let ymax = points.iter().map(|p| p.1).fold(0.0, f64::max) * 1.2 + 1.0;
+        let xmax = points.iter().map(|p| p.1).fold(0.0, f64::max) * 1.15 + 1e-12;
+        let xmin = points.iter().map(|p| p.1).fold(xmax, f64::min) * 0.85;
+        let ymax = points.iter().map(|p| p.2).fold(0.0, f64::max) * 1.2 + 1.0;
         let mut chart = ChartBuilder::on(&root)
             .caption(
                 format!(
@@ -1074,18 +1132,38 @@ fn write_study_chart(path: &Path, study: Study, points: &[(f64, f64)]) -> Result
             .y_desc("MRE (%)")
             .draw()
             .map_err(|e| draw(&e))?;
-        let mut sorted = points.to_vec();
-        sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
-        chart
-            .draw_series(LineSeries::new(sorted.clone(), BLACK.stroke_width(1)))
-            .map_err(|e| draw(&e))?;
-        chart
-            .draw_series(
-                sorted
-                    .iter()
-                    .map(|&(x, y)| Circle::new((x, y), 4, RED.filled())),
-            )
-            .map_err(|e| draw(&e))?;
+        let mut names: Vec<&str> = points.iter().map(|p| p.0).collect();
+        names.dedup();
+        let colours = [RED, BLUE, GREEN, MAGENTA];
+        for (k, name) in names.iter().enumerate() {
+            let colour = colours[k % colours.len()];
+            let mut sorted: Vec<(f64, f64)> = points
+                .iter()
+                .filter(|p| p.0 == *name)
+                .map(|p| (p.1, p.2))
+                .collect();
+            sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+            chart
+                .draw_series(LineSeries::new(sorted.clone(), colour.stroke_width(1)))
+                .map_err(|e| draw(&e))?
+                .label(*name)
+                .legend(move |(x, y)| Circle::new((x + 10, y), 4, colour.filled()));
+            chart
+                .draw_series(
+                    sorted
+                        .iter()
+                        .map(|&(x, y)| Circle::new((x, y), 4, colour.filled())),
+                )
+                .map_err(|e| draw(&e))?;
+        }
+        if names.len() > 1 {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()
+                .map_err(|e| draw(&e))?;
+        }
         root.present().map_err(|e| draw(&e))?;
     }
     write_atomically(path, |w| std::io::Write::write_all(w, svg.as_bytes()))

@@ -275,3 +275,51 @@ fix = ["x", "y", "z"]
     assert_eq!(neither.status.code(), Some(2));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn bench_pipeline_times_every_stage() {
+    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/block_hex.msh");
+    let out = exe()
+        .args(["bench", "--pipeline"])
+        .arg(&mesh)
+        .arg("--json")
+        .output()
+        .expect("runs");
+    let v = json_of(&out);
+    let stages = v["stages"].as_array().expect("stages");
+    let names: Vec<&str> = stages.iter().filter_map(|s| s["stage"].as_str()).collect();
+    for want in [
+        "import",
+        "neighbours",
+        "surface",
+        "correction",
+        "neighbours alone",
+        "surface alone",
+        "write case folder",
+    ] {
+        assert!(names.contains(&want), "{want} missing from {names:?}");
+    }
+    // The same mesh through `convert`: the same particles and bonds.
+    let dir = temp_dir("bench-pipeline");
+    let conv = exe()
+        .arg("convert")
+        .arg(&mesh)
+        .arg("-o")
+        .arg(&dir)
+        .arg("--json")
+        .output()
+        .expect("runs");
+    let c = json_of(&conv);
+    assert_eq!(v["particles"], c["particles"], "{v}\n{c}");
+    assert_eq!(v["bonds"], c["bonds"], "{v}\n{c}");
+    // The standalone neighbour build finds exactly the case's bonds (throughput × seconds).
+    let alone = stages
+        .iter()
+        .find(|s| s["stage"] == "neighbours alone")
+        .expect("neighbours alone");
+    let found =
+        alone["throughput"].as_f64().unwrap_or(0.0) * alone["seconds"].as_f64().unwrap_or(0.0);
+    let bonds = c["bonds"].as_f64().expect("bonds");
+    assert!((found - bonds).abs() <= 1e-6 * bonds, "{found} vs {bonds}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
