@@ -21,7 +21,7 @@ def _children_cpu():
 
 
 def run_case(model, h_over_a, workdir, problem=Problem(), *, penalty=1e14, solver="auto",
-             pressure="lumped", slave="auto", slave_cap=0.3, plane_fine=2.0, preload=0.5,
+             pressure="lumped", slave="auto", slave_cap=None, plane_fine=2.0, preload=0.5,
              rematch=2, nlgeom=False, loading="body", threads=2, mesh_options=None):
     """Runs one case in ``workdir``; returns a dict of figures, sizes and timings.
 
@@ -29,7 +29,7 @@ def run_case(model, h_over_a, workdir, problem=Problem(), *, penalty=1e14, solve
     the linear pressure-overclosure law, Pa/m. pressure: "lumped" (p_i = F_i / A_i, the
     project's definition) or "consistent" (p = M^-1 F). slave: which surface is
     CalculiX's slave, "sphere" or "plane" ("auto": the plane for CAX8, see below).
-    slave_cap: the sphere's contact surface is its cap r < slave_cap. preload: the plane
+    slave_cap: the sphere's contact surface is its cap r < slave_cap (default 2a). preload: the plane
     starts this fraction of a^2/R above the pole. rematch: extra load steps that redo
     CalculiX's slave/master matching in the loaded configuration. loading: "body" (the
     whole sphere under a uniform body force totalling P, as in the project's scene) or
@@ -40,7 +40,12 @@ def run_case(model, h_over_a, workdir, problem=Problem(), *, penalty=1e14, solve
     etype, faces_def, share = MODELS[model]
     a, radius = problem.contact_radius, problem.radius
     h = h_over_a * a
+    # The contact surface and the refined zone scale with the contact radius (the defaults
+    # were set at a = 0.15 m: a cap of 0.3 m, refined to 0.22 m or 0.2 m from the pole).
+    if slave_cap is None:
+        slave_cap = 2.0 * a
     opts = dict(mesh_options or {})
+    opts.setdefault("fine", (0.22 if model == "cax8-axisymmetric" else 0.2) * a / 0.15)
     if model == "cax8-axisymmetric":
         x, conn = mesh.axisymmetric(h, radius, full=loading == "body", **opts)
         plane = deck.plane_strip(deck.graded(1e-6 * radius, plane_fine * a, 1.5 * slave_cap, h),
