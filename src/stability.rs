@@ -565,7 +565,7 @@ fn static_mre(model: &Model, case: &ValidationCase) -> Option<f64> {
 }
 
 /// The spacing the cap generator gives the sphere of the scenes.
-fn sphere_spacing(folder: &Path) -> Result<f64> {
+pub fn sphere_spacing(folder: &Path) -> Result<f64> {
     let p = RunPoint {
         method: ContactMethod::PointToSurface,
         dt_multiple: DEFAULT_SAFETY,
@@ -867,10 +867,7 @@ pub fn write_chart(path: &Path, runs: &[StabilityRun]) -> Result<()> {
             }
         }
         let legend = [
-            (
-                "stable and accurate",
-                "stable and accurate (MRE ≤ 10 %, written in)",
-            ),
+            ("stable and accurate", "stable and accurate (MRE ≤ 10 %)"),
             (
                 "stable but inaccurate",
                 "stable but inaccurate (MRE > 10 %)",
