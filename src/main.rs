@@ -104,8 +104,8 @@ enum Command {
         /// No progress on stderr.
         #[arg(long)]
         quiet: bool,
-        /// Scan the explicit time step, the penalty stiffness and the impact speed instead;
-        /// writes stability.json and stability.svg.
+        /// Map the explicit time step, the penalty stiffness and the impact speed, two at a
+        /// time, instead; writes stability.json and stability.svg.
         #[arg(long)]
         stability: bool,
     },

@@ -218,7 +218,9 @@ impl Model {
                         .map(|c| {
                             let d = c.penetration;
                             // ∫ F dδ for F = force(δ): force(d)·d·(2/5) for Hertz, ·(1/2) linear.
-                            let f = p.weight * p.law.force(d);
+                            // The force applied, so that a slave on a symmetry plane counts
+                            // only its share, as its force does.
+                            let f = c.force.norm();
                             match p.law.law {
                                 crate::scene::PenaltyLaw::Hertz => 0.4 * f * d,
                                 crate::scene::PenaltyLaw::Linear => 0.5 * f * d,

@@ -1,64 +1,308 @@
 //! `pdcontact sweep --stability`: where the explicit solver and the contact methods stop
 //! working, on coarse spheres (Δ = 0.12 m, a/R = 0.3, the scenes of [`crate::sweep`]).
 //!
-//! Three one-parameter scans, each from the defaults of the others:
+//! Three parameters, mapped two at a time, each map through the defaults of the third
+//! (dt = 0.8 of the stable estimate, the solver's default; the paper's penalty; a static load):
 //!
-//! * **time step**: dt = 0.25 … 4 times the estimated stable step, damped quasi-static runs;
+//! * **time step**: dt = 0.25 … 4 times the estimated stable step (re-estimated for each run);
 //! * **penalty** (point-to-surface only): the Hertz K times 0.01 … 100, through the penalty
-//!   radius R = (Δ/2)·f² (K ∝ √R), at 0.8 of the stable step (re-estimated for each K);
-//! * **impact speed**: the sphere thrown at the master (undamped, [`IMPACT_STEPS`] steps), at
-//!   speeds that move a particle 0.003 … 1 times the contact window (0.5Δ) in one step at 0.8
-//!   of the stable step.
+//!   radius R = (Δ/2)·f² (K ∝ √R);
+//! * **impact speed**: 0.1 … 10⁴ m/s, up to and past the speed that moves a particle through
+//!   the contact window 0.5Δ in one step, or **static**: the sphere pressed by Hertz's load and
+//!   damped to rest.
 //!
-//! Each run is classed by what the solver itself reports: **blew up** (NaN, kinetic energy
-//! exploded, energy growth, displacement growth, ADR divergence), **missed contacts** (a slave
-//! particle behind a master segment beyond the window, or through the master's surface for the
-//! short-range method), otherwise **stable and accurate** (MRE ≤ 10 %) or **stable but
-//! inaccurate**. Impact runs have no static answer: they are stable or not.
+//! Maps: point-to-surface dt × penalty (static), dt × speed and penalty × speed; short-range
+//! dt × speed (it has no penalty). A run is classed by what the solver itself reports:
+//! **blew up** (NaN, kinetic energy exploded, energy growth, displacement growth), **missed
+//! contacts** (a slave particle behind a master segment beyond the window, or through the
+//! master's surface for the short-range method), otherwise **stable and accurate** (MRE ≤ 10 %)
+//! or **stable but inaccurate**. An impact has no static answer: it is stable or not.
+//!
+//! Static runs stop once settled ([`SETTLED`]); an impact (no load, undamped) stops once the
+//! sphere's momentum has turned back: its penetration has peaked by then.
 
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
 
+use plotters::coord::combinators::BindKeyPoints;
 use plotters::prelude::*;
-use serde::Serialize;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use serde::{Deserialize, Serialize};
 
+use crate::analysis::{contact_patch, elliptic_accuracy, hertz_sphere};
+use crate::body::{Body, FIX_X, FIX_Y, FIX_Z};
 use crate::error::{Error, Result};
 use crate::model::Model;
-use crate::scene::Scene;
-use crate::solver::stable_time_step;
+use crate::scene::{ContactMethod, Scene};
+use crate::solver::{solve, stable_time_step, Monitor, DEFAULT_SAFETY};
 use crate::validate::{
-    run_case, sphere_cap_case, sphere_on_block_case, ValidationCase, STUDY_CONTACT_RADIUS,
+    sphere_cap_case, sphere_on_block_case, Reference, ValidationCase, STUDY_CONTACT_RADIUS,
     STUDY_DAMPING, STUDY_END_TIME,
 };
 use crate::vtk::write_atomically;
 
 /// Spacing of the stability scenes (m).
 pub const SPACING: f64 = 0.12;
-/// Steps of an impact run (5 ms at Δ = 0.12 m: the sphere is stopped and thrown back).
-pub const IMPACT_STEPS: usize = 600;
 /// MRE above which a stable run counts as inaccurate.
 pub const ACCURATE: f64 = 0.10;
+/// dt over the estimated stable step.
+pub const DT_MULTIPLES: [f64; 7] = [0.25, 0.5, 0.8, 1.0, 1.5, 2.0, 4.0];
+/// K over the Hertz K of R = Δ/2 (point-to-surface).
+pub const PENALTY_MULTIPLES: [f64; 5] = [0.01, 0.1, 1.0, 10.0, 100.0];
+/// Impact speeds (m/s), half a decade apart.
+pub const IMPACT_SPEEDS: [f64; 11] = [
+    0.1, 0.316, 1.0, 3.16, 10.0, 31.6, 100.0, 316.0, 1000.0, 3160.0, 10000.0,
+];
+/// A static run has settled when the out-of-balance force is below this fraction of the
+/// load: its MRE is then within 0.3 % (absolute) of a run twice as long, on both scenes.
+pub const SETTLED: f64 = 5e-3;
+/// Longest simulated impact (s): the slowest, softest impact turns back after 0.1 s.
+pub const IMPACT_END_TIME: f64 = 0.2;
 
-/// One run of the stability scans.
-#[derive(Clone, Debug, Serialize)]
+/// How the sphere is loaded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Loading {
+    /// Hertz's load, damped to rest: compared with Hertz.
+    Static,
+    /// Thrown at the master at this speed (m/s), no load, undamped.
+    Impact(f64),
+}
+
+/// The parameters of one run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunPoint {
+    pub method: ContactMethod,
+    pub dt_multiple: f64,
+    /// 1 for short-range, which has no penalty.
+    pub penalty_multiple: f64,
+    pub loading: Loading,
+}
+
+impl RunPoint {
+    fn label(&self) -> String {
+        let method = match self.method {
+            ContactMethod::PointToSurface => "pts",
+            ContactMethod::ShortRange => "sr",
+        };
+        let loading = match self.loading {
+            Loading::Static => "static".to_string(),
+            Loading::Impact(v) => format!("v{v}"),
+        };
+        format!(
+            "{method}-dt{}-k{}-{loading}",
+            self.dt_multiple, self.penalty_multiple
+        )
+    }
+}
+
+/// A map's axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axis {
+    TimeStep,
+    Penalty,
+    /// The impact speeds and a "static" row.
+    Speed,
+}
+
+/// One map: a method, two parameters; the third stays at its default.
+#[derive(Clone, Copy, Debug)]
+pub struct Map {
+    pub method: ContactMethod,
+    pub x: Axis,
+    pub y: Axis,
+}
+
+/// The four maps.
+pub const MAPS: [Map; 4] = [
+    Map {
+        method: ContactMethod::PointToSurface,
+        x: Axis::TimeStep,
+        y: Axis::Penalty,
+    },
+    Map {
+        method: ContactMethod::PointToSurface,
+        x: Axis::TimeStep,
+        y: Axis::Speed,
+    },
+    Map {
+        method: ContactMethod::PointToSurface,
+        x: Axis::Penalty,
+        y: Axis::Speed,
+    },
+    Map {
+        method: ContactMethod::ShortRange,
+        x: Axis::TimeStep,
+        y: Axis::Speed,
+    },
+];
+
+/// A parameter's value: a multiple, or a loading for [`Axis::Speed`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Value {
+    Multiple(f64),
+    Loading(Loading),
+}
+
+impl Axis {
+    fn values(self) -> Vec<Value> {
+        match self {
+            Axis::TimeStep => DT_MULTIPLES.iter().map(|&v| Value::Multiple(v)).collect(),
+            Axis::Penalty => PENALTY_MULTIPLES
+                .iter()
+                .map(|&v| Value::Multiple(v))
+                .collect(),
+            Axis::Speed => std::iter::once(Value::Loading(Loading::Static))
+                .chain(
+                    IMPACT_SPEEDS
+                        .iter()
+                        .map(|&v| Value::Loading(Loading::Impact(v))),
+                )
+                .collect(),
+        }
+    }
+
+    /// Where a value sits on the chart: speeds as they are, "static" a decade below them.
+    fn position(self, v: Value) -> f64 {
+        match v {
+            Value::Multiple(m) => m,
+            Value::Loading(Loading::Impact(s)) => s,
+            Value::Loading(Loading::Static) => STATIC_ROW,
+        }
+    }
+
+    fn describe(self) -> &'static str {
+        match self {
+            Axis::TimeStep => "dt / estimated stable step",
+            Axis::Penalty => "K / Hertz K (R = Δ/2)",
+            Axis::Speed => "impact speed (m/s)",
+        }
+    }
+}
+
+/// Where the static row of a speed axis is drawn (a decade below the slowest impact).
+const STATIC_ROW: f64 = 0.01;
+
+impl Map {
+    fn point(&self, x: Value, y: Value) -> RunPoint {
+        let mut p = RunPoint {
+            method: self.method,
+            dt_multiple: DEFAULT_SAFETY,
+            penalty_multiple: 1.0,
+            loading: Loading::Static,
+        };
+        for (axis, v) in [(self.x, x), (self.y, y)] {
+            match (axis, v) {
+                (Axis::TimeStep, Value::Multiple(m)) => p.dt_multiple = m,
+                (Axis::Penalty, Value::Multiple(m)) => p.penalty_multiple = m,
+                (Axis::Speed, Value::Loading(l)) => p.loading = l,
+                _ => {}
+            }
+        }
+        p
+    }
+
+    /// Whether a run is a cell of this map: its method, and the third parameter at its default.
+    #[cfg(test)]
+    fn contains(&self, p: &RunPoint) -> bool {
+        let free = |a: Axis| self.x == a || self.y == a;
+        p.method == self.method
+            && (free(Axis::TimeStep) || p.dt_multiple == DEFAULT_SAFETY)
+            && (free(Axis::Penalty) || p.penalty_multiple == 1.0)
+            && (free(Axis::Speed) || p.loading == Loading::Static)
+    }
+
+    fn title(&self) -> String {
+        let name = |a: Axis| match a {
+            Axis::TimeStep => "time step",
+            Axis::Penalty => "penalty",
+            Axis::Speed => "impact speed",
+        };
+        let rest = match (self.method, self.x, self.y) {
+            (ContactMethod::ShortRange, ..) => "",
+            (_, Axis::TimeStep, Axis::Penalty) => " (static load)",
+            (_, Axis::TimeStep, Axis::Speed) => " (penalty R = Δ/2)",
+            _ => " (dt = 0.8 × stable)",
+        };
+        format!(
+            "{}: {} × {}{rest}",
+            self.method.name(),
+            name(self.x),
+            name(self.y)
+        )
+    }
+}
+
+/// Every run the maps need, each once.
+pub fn plan() -> Vec<RunPoint> {
+    let mut out: Vec<RunPoint> = Vec::new();
+    for map in MAPS {
+        for x in map.x.values() {
+            for y in map.y.values() {
+                let p = map.point(x, y);
+                if !out.contains(&p) {
+                    out.push(p);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// One run of the maps.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct StabilityRun {
-    /// "time step", "penalty" or "impact".
-    pub scan: String,
     pub method: String,
+    /// "static" (Hertz's load, damped to rest) or "impact" (thrown, no load, undamped).
+    pub loading: String,
     /// dt over the estimated stable step.
     pub dt_multiple: f64,
+    /// The time step (s) and the stable estimate it is a multiple of.
+    pub dt: f64,
+    pub stable_dt: f64,
     /// K over the Hertz K of R = Δ/2 (point-to-surface; 1 for short-range).
     pub penalty_multiple: f64,
-    /// Impact speed (m/s; 0 for the quasi-static runs).
+    /// Impact speed (m/s; 0 for the static runs).
     pub impact_speed: f64,
-    /// Distance a particle moves in one step over the contact window 0.5Δ.
+    /// The contact window 0.5Δ of the sphere (m).
+    pub window: f64,
+    /// Distance a particle moves in one step at the impact speed, over the window.
     pub step_over_window: f64,
-    /// "stable and accurate", "stable but inaccurate", "missed contacts" or "blew up".
+    /// "stable and accurate", "stable but inaccurate", "stable" (impact), "missed contacts"
+    /// or "blew up".
     pub outcome: String,
     pub mre: Option<f64>,
+    /// Largest penetration over the window (point-to-surface).
+    pub peak_penetration: Option<f64>,
+    /// "settled", "turned back" (impact), "end time" or "error".
+    pub ended: String,
+    pub steps: usize,
+    /// Largest relative drift of the total energy (runs that did not fail).
+    pub energy_drift: Option<f64>,
     pub wall_seconds: f64,
     /// The solver's message when it stopped.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
+}
+
+impl StabilityRun {
+    fn point(&self) -> RunPoint {
+        RunPoint {
+            method: if self.method == ContactMethod::ShortRange.name() {
+                ContactMethod::ShortRange
+            } else {
+                ContactMethod::PointToSurface
+            },
+            dt_multiple: self.dt_multiple,
+            penalty_multiple: self.penalty_multiple,
+            loading: if self.loading == "impact" {
+                Loading::Impact(self.impact_speed)
+            } else {
+                Loading::Static
+            },
+        }
+    }
 }
 
 /// Classes a solver error by the failure it names.
@@ -70,154 +314,345 @@ pub fn classify_error(message: &str) -> &'static str {
     }
 }
 
-fn explicit_solver(safety: f64, end_time: f64, damping: f64) -> String {
-    format!("kind = \"explicit\"\nsafety = {safety}\ndamping = {damping}\nend_time = {end_time}")
-}
-
-fn case_for(method: &str, solver: &str, penalty: f64, label: &str) -> ValidationCase {
+/// The scene of a run. `sphere_spacing` is the spacing the cap generator gives the sphere (it
+/// fits its layers to the sector): an impact on the block starts with the sphere at the
+/// short-range distance d, the edge of the repulsion zone.
+pub fn case(p: &RunPoint, sphere_spacing: f64) -> ValidationCase {
     let a = STUDY_CONTACT_RADIUS;
-    if method == "short-range" {
-        sphere_on_block_case(
-            a,
-            SPACING,
-            3.0,
-            solver,
-            "method = \"short-range\"",
-            crate::shortrange::DISTANCE * SPACING,
-            label,
-        )
-    } else {
-        let radius = 0.5 * SPACING * penalty * penalty;
-        sphere_cap_case(
-            a,
-            SPACING,
-            3.0,
-            solver,
-            &format!("radius = {radius:e}"),
-            label,
-        )
+    // The block settles more slowly than the sector (docs/SPEED_ACCURACY.md).
+    let settle = match p.method {
+        ContactMethod::ShortRange => 3.0 * STUDY_END_TIME,
+        ContactMethod::PointToSurface => STUDY_END_TIME,
+    };
+    let solver = match p.loading {
+        Loading::Static => format!(
+            "kind = \"explicit\"\nsafety = {}\ndamping = {STUDY_DAMPING}\nend_time = {settle}",
+            p.dt_multiple
+        ),
+        Loading::Impact(_) => format!(
+            "kind = \"explicit\"\nsafety = {}\nend_time = {IMPACT_END_TIME}",
+            p.dt_multiple
+        ),
+    };
+    let label = p.label();
+    let mut case = match p.method {
+        ContactMethod::ShortRange => {
+            let d = crate::shortrange::DISTANCE;
+            let lift = match p.loading {
+                Loading::Static => d * SPACING,
+                Loading::Impact(_) => d * sphere_spacing,
+            };
+            sphere_on_block_case(
+                a,
+                SPACING,
+                3.0,
+                &solver,
+                "method = \"short-range\"",
+                lift,
+                &label,
+            )
+        }
+        ContactMethod::PointToSurface => {
+            let radius = 0.5 * SPACING * p.penalty_multiple * p.penalty_multiple;
+            sphere_cap_case(
+                a,
+                SPACING,
+                3.0,
+                &solver,
+                &format!("radius = {radius:e}"),
+                &label,
+            )
+        }
+    };
+    if let Loading::Impact(speed) = p.loading {
+        case.scene = thrown(&case.scene, speed);
     }
+    case
 }
 
-/// The estimated stable step of a case's scene and the sphere's spacing (the cap generator
-/// fits its layers to the sector, so the spacing is not exactly the requested one).
-fn stable_step(case: &ValidationCase, folder: &Path) -> Result<(f64, f64)> {
-    let scene = Scene::parse(&case.scene, &case.label, folder)?;
-    let model = Model::from_scene(&scene)?;
-    let spacing = model.bodies[0].as_pd().map_or(SPACING, |b| b.spacing());
-    Ok((stable_time_step(&model), spacing))
-}
-
-/// The sphere of `case` thrown at the master at `speed` (undamped), for `steps` steps at
-/// `safety` of the stable step `dt`.
-fn impact(case: &mut ValidationCase, speed: f64, dt: f64, steps: usize) {
-    case.scene = case.scene.replacen(
+/// The scene with its first body (the sphere) thrown down at `speed` and no load.
+fn thrown(scene: &str, speed: f64) -> String {
+    let mut s = scene.replacen(
         "kinematics = \"small\"",
         &format!("kinematics = \"small\"\nvelocity = [0.0, 0.0, -{speed:e}]"),
         1,
     );
-    let solver_start = case.scene.find("[solver]").unwrap_or(0);
-    let solver_end = case.scene[solver_start..]
-        .find("\n\n")
-        .map_or(case.scene.len(), |e| solver_start + e);
-    case.scene.replace_range(
-        solver_start..solver_end,
-        &format!(
-            "[solver]\nkind = \"explicit\"\ndt = {dt:e}\nend_time = {:e}",
-            dt * steps as f64
-        ),
-    );
+    while let Some(start) = s.find("[[load]]") {
+        let end = s[start..].find("\n\n").map_or(s.len(), |e| start + e + 1);
+        s.replace_range(start..end, "");
+    }
+    s
 }
 
-/// Runs the three scans into `folder`; writes `stability.json` and `stability.svg`.
-pub fn run_stability(folder: &Path, quiet: bool) -> Result<Vec<StabilityRun>> {
-    std::fs::create_dir_all(folder).map_err(|e| Error::output(folder, e))?;
-    let mut runs = Vec::new();
-    let methods = ["point-to-surface", "short-range"];
-    let mut plan: Vec<(String, String, f64, f64, f64)> = Vec::new();
-    for method in methods {
-        for f in [0.25, 0.5, 1.0, 1.5, 2.0, 4.0] {
-            plan.push(("time step".into(), method.into(), f, 1.0, 0.0));
-        }
-    }
-    for f in [0.01, 0.1, 1.0, 10.0, 100.0] {
-        plan.push(("penalty".into(), methods[0].into(), 0.8, f, 0.0));
-    }
-    for method in methods {
-        for frac in [0.003, 0.01, 0.03, 0.1, 0.3, 1.0] {
-            plan.push(("impact".into(), method.into(), 0.8, 1.0, frac));
-        }
-    }
-    let total = plan.len();
-    for (k, (scan, method, dtm, pen, frac)) in plan.into_iter().enumerate() {
-        let label = format!(
-            "stability-{}-{}-dt{dtm}-k{pen}-v{frac}",
-            scan.replace(' ', "-"),
-            method
-        );
-        // The block settles more slowly than the sector (docs/SPEED_ACCURACY.md).
-        let end = if method == "short-range" {
-            3.0 * STUDY_END_TIME
-        } else {
-            STUDY_END_TIME
-        };
-        let mut case = case_for(
-            &method,
-            &explicit_solver(dtm, end, STUDY_DAMPING),
-            pen,
-            &label,
-        );
-        let mut speed = 0.0;
-        let mut step_over_window = 0.0;
-        if scan == "impact" {
-            let (stable, spacing) = stable_step(&case, folder)?;
-            let dt = 0.8 * stable;
-            speed = frac * crate::contact::WINDOW * spacing / dt;
-            step_over_window = frac;
-            impact(&mut case, speed, dt, IMPACT_STEPS);
-        }
-        if !quiet {
-            eprintln!(
-                "stability {}/{total}: {scan}, {method}, dt x{dtm}, K x{pen}, v = {speed:.3e} m/s ...",
-                k + 1
-            );
-        }
-        let start = std::time::Instant::now();
-        let result = run_case(&case, folder, true);
-        let wall_seconds = start.elapsed().as_secs_f64();
-        let (outcome, mre, error) = match result {
-            Ok(_) if scan == "impact" => ("stable".to_string(), None, None),
-            Ok(rows) => {
-                let mre = rows.first().map_or(f64::NAN, |r| r.mre);
-                let o = if mre <= ACCURATE {
-                    "stable and accurate"
-                } else {
-                    "stable but inaccurate"
-                };
-                (o.to_string(), Some(mre), None)
-            }
-            Err(e) => {
-                let msg = e.to_string();
-                if msg.contains("no contact formed") && scan == "impact" {
-                    ("stable".to_string(), None, None)
-                } else {
-                    (classify_error(&msg).to_string(), None, Some(msg))
+/// Out-of-balance force over the free degrees of freedom.
+fn out_of_balance(model: &Model) -> f64 {
+    let mut s = 0.0;
+    for pd in model.bodies.iter().filter_map(Body::as_pd) {
+        for (f, &mask) in pd.force.iter().zip(&pd.fixed) {
+            for (a, bit) in [FIX_X, FIX_Y, FIX_Z].into_iter().enumerate() {
+                if mask & bit == 0 {
+                    s += f[a] * f[a];
                 }
             }
-        };
-        runs.push(StabilityRun {
-            scan,
-            method,
-            dt_multiple: dtm,
-            penalty_multiple: pen,
-            impact_speed: speed,
-            step_over_window,
-            outcome,
-            mre,
-            wall_seconds,
-            error,
-        });
+        }
     }
+    s.sqrt()
+}
+
+/// Stops a static run once it has settled and an impact once the sphere turns back; keeps
+/// the largest penetration.
+struct Watch {
+    /// The static load's norm; `None` for an impact.
+    load: Option<f64>,
+    touched: bool,
+    done: bool,
+    steps: usize,
+    peak_penetration: f64,
+}
+
+impl Monitor for Watch {
+    fn step(&mut self, model: &Model, step: usize, _time: f64, _measure: f64) -> Result<()> {
+        self.steps = step;
+        for p in &model.passes {
+            for c in &p.contacts {
+                self.peak_penetration = self.peak_penetration.max(c.penetration / p.law.window);
+            }
+        }
+        match self.load {
+            Some(load) => {
+                if step.is_multiple_of(10) && out_of_balance(model) <= SETTLED * load {
+                    self.done = true;
+                }
+            }
+            None => {
+                self.touched |= model.contact_count() > 0;
+                // The sphere is thrown along −z.
+                let down: f64 = model.bodies[0].as_pd().map_or(0.0, |pd| {
+                    pd.v.iter().zip(&pd.mass).map(|(v, m)| -v.z * m).sum()
+                });
+                if self.touched && down <= 0.0 {
+                    self.done = true;
+                }
+            }
+        }
+        Ok(())
+    }
+    fn finish(&mut self, _: &Model, _: usize, _: f64) -> Result<()> {
+        Ok(())
+    }
+    fn interrupted(&self) -> bool {
+        self.done
+    }
+}
+
+/// Runs one point in `folder/<label>/` (its scene is written there, to be rerun with
+/// `pdcontact run`).
+pub fn run_point(p: &RunPoint, folder: &Path, sphere_spacing: f64) -> Result<StabilityRun> {
+    let case = case(p, sphere_spacing);
+    let dir = folder.join(p.label());
+    std::fs::create_dir_all(&dir).map_err(|e| Error::output(&dir, e))?;
+    let path = dir.join("scene.toml");
+    write_atomically(&path, |w| {
+        std::io::Write::write_all(w, case.scene.as_bytes())
+    })?;
+    let start = Instant::now();
+    let scene = Scene::parse(&case.scene, &path.display().to_string(), &dir)?;
+    let mut model = Model::from_scene(&scene)?;
+    let stable = stable_time_step(&model);
+    let dt = p.dt_multiple * stable;
+    let load = match p.loading {
+        Loading::Static => {
+            let load: f64 = model
+                .bodies
+                .iter()
+                .filter_map(Body::as_pd)
+                .flat_map(|pd| pd.load.iter())
+                .map(|f| f.norm_squared())
+                .sum();
+            Some(load.sqrt())
+        }
+        Loading::Impact(_) => None,
+    };
+    let mut watch = Watch {
+        load,
+        touched: false,
+        done: false,
+        steps: 0,
+        peak_penetration: 0.0,
+    };
+    let result = solve(&mut model, &scene.solver, &mut watch);
+    let wall_seconds = start.elapsed().as_secs_f64();
+    let speed = match p.loading {
+        Loading::Static => 0.0,
+        Loading::Impact(v) => v,
+    };
+    let window = crate::contact::WINDOW * sphere_spacing;
+    let mut run = StabilityRun {
+        method: p.method.name().into(),
+        loading: match p.loading {
+            Loading::Static => "static".into(),
+            Loading::Impact(_) => "impact".into(),
+        },
+        dt_multiple: p.dt_multiple,
+        dt,
+        stable_dt: stable,
+        penalty_multiple: p.penalty_multiple,
+        impact_speed: speed,
+        window,
+        step_over_window: speed * dt / window,
+        outcome: String::new(),
+        mre: None,
+        peak_penetration: (p.method == ContactMethod::PointToSurface)
+            .then_some(watch.peak_penetration),
+        ended: if watch.done {
+            match p.loading {
+                Loading::Static => "settled".into(),
+                Loading::Impact(_) => "turned back".into(),
+            }
+        } else {
+            "end time".into()
+        },
+        steps: watch.steps,
+        energy_drift: None,
+        wall_seconds,
+        error: None,
+    };
+    match result {
+        Ok(stats) => {
+            run.energy_drift = Some(stats.energy_drift);
+            run.outcome = match p.loading {
+                Loading::Impact(_) => "stable".into(),
+                Loading::Static => match static_mre(&model, &case) {
+                    Some(mre) => {
+                        run.mre = Some(mre);
+                        if mre <= ACCURATE {
+                            "stable and accurate".into()
+                        } else {
+                            "stable but inaccurate".into()
+                        }
+                    }
+                    None => {
+                        run.error = Some("no contact formed".into());
+                        "stable but inaccurate".into()
+                    }
+                },
+            };
+        }
+        Err(e) => {
+            let msg = e.to_string();
+            run.outcome = classify_error(&msg).into();
+            run.ended = "error".into();
+            run.error = Some(msg);
+        }
+    }
+    Ok(run)
+}
+
+/// MRE of a settled static run against Hertz.
+fn static_mre(model: &Model, case: &ValidationCase) -> Option<f64> {
+    let Reference::Sphere {
+        load,
+        radius,
+        e_stars,
+    } = &case.reference
+    else {
+        return None;
+    };
+    let (_, e_star) = e_stars.first()?;
+    let (a, p0) = hertz_sphere(*load, *radius, *e_star);
+    let patch = contact_patch(model, 0, None)?;
+    Some(elliptic_accuracy(&patch, a, p0).mre)
+}
+
+/// The spacing the cap generator gives the sphere of the scenes.
+pub fn sphere_spacing(folder: &Path) -> Result<f64> {
+    let p = RunPoint {
+        method: ContactMethod::PointToSurface,
+        dt_multiple: DEFAULT_SAFETY,
+        penalty_multiple: 1.0,
+        loading: Loading::Static,
+    };
+    let case = case(&p, SPACING);
+    let scene = Scene::parse(&case.scene, &case.label, folder)?;
+    let model = Model::from_scene(&scene)?;
+    Ok(model.bodies[0].as_pd().map_or(SPACING, |b| b.spacing()))
+}
+
+/// Runs the maps into `folder`, as many runs at a time as there are cores (each on one
+/// thread: these bodies are too small to share); writes `stability.json` and `stability.svg`.
+pub fn run_stability(folder: &Path, quiet: bool) -> Result<Vec<StabilityRun>> {
+    std::fs::create_dir_all(folder).map_err(|e| Error::output(folder, e))?;
+    let spacing = sphere_spacing(folder)?;
+    let mut points = plan();
+    // The longest first, so that the workers finish together: static runs, stiff penalties,
+    // small steps, slow impacts.
+    let cost = |p: &RunPoint| {
+        let settle = if p.loading == Loading::Static {
+            4.0
+        } else {
+            1.0
+        };
+        settle * p.penalty_multiple.max(1.0).sqrt() / p.dt_multiple
+    };
+    points.sort_by(|a, b| cost(b).total_cmp(&cost(a)));
+    let total = points.len();
+    let workers = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(total);
+    let next = AtomicUsize::new(0);
+    let done = AtomicUsize::new(0);
+    let failed = AtomicBool::new(false);
+    let results: Mutex<Vec<StabilityRun>> = Mutex::new(Vec::with_capacity(total));
+    let first_error: Mutex<Option<Error>> = Mutex::new(None);
+    std::thread::scope(|s| {
+        for _ in 0..workers {
+            s.spawn(|| {
+                let pool = match rayon::ThreadPoolBuilder::new().num_threads(1).build() {
+                    Ok(pool) => pool,
+                    Err(e) => {
+                        failed.store(true, Ordering::SeqCst);
+                        if let Ok(mut slot) = first_error.lock() {
+                            slot.get_or_insert(Error::numerical(format!(
+                                "cannot start a worker thread: {e}"
+                            )));
+                        }
+                        return;
+                    }
+                };
+                loop {
+                    let k = next.fetch_add(1, Ordering::SeqCst);
+                    if k >= total || failed.load(Ordering::SeqCst) {
+                        return;
+                    }
+                    let p = &points[k];
+                    match pool.install(|| run_point(p, folder, spacing)) {
+                        Ok(run) => {
+                            let n = done.fetch_add(1, Ordering::SeqCst) + 1;
+                            if !quiet {
+                                eprintln!("stability {n}/{total}: {}", describe(&run));
+                            }
+                            if let Ok(mut r) = results.lock() {
+                                r.push(run);
+                            }
+                        }
+                        Err(e) => {
+                            failed.store(true, Ordering::SeqCst);
+                            if let Ok(mut slot) = first_error.lock() {
+                                slot.get_or_insert(e);
+                            }
+                            return;
+                        }
+                    }
+                }
+            });
+        }
+    });
+    if let Some(e) = first_error.into_inner().ok().flatten() {
+        return Err(e);
+    }
+    let mut runs = results.into_inner().unwrap_or_default();
+    let order = plan();
+    runs.sort_by_key(|r| order.iter().position(|p| *p == r.point()));
     let json = serde_json::to_string_pretty(&runs).map_err(|e| Error::output(folder, e))?;
     write_atomically(&folder.join("stability.json"), |w| {
         std::io::Write::write_all(w, json.as_bytes())
@@ -226,104 +661,248 @@ pub fn run_stability(folder: &Path, quiet: bool) -> Result<Vec<StabilityRun>> {
     Ok(runs)
 }
 
-/// The table of the runs (Markdown).
+/// One line of progress.
+fn describe(r: &StabilityRun) -> String {
+    let loading = if r.loading == "impact" {
+        format!("impact at {} m/s", r.impact_speed)
+    } else {
+        "static".into()
+    };
+    let mre = r
+        .mre
+        .map_or(String::new(), |m| format!(", MRE {:.1} %", 100.0 * m));
+    format!(
+        "{}, {loading}, dt x{}, K x{}: {}{mre} ({:.1} s)",
+        r.method, r.dt_multiple, r.penalty_multiple, r.outcome, r.wall_seconds
+    )
+}
+
+/// A cell's short text: the outcome, with the MRE of a static run.
+fn cell_text(r: &StabilityRun) -> String {
+    match (r.outcome.as_str(), r.mre) {
+        ("stable and accurate", Some(m)) => format!("accurate {:.1} %", 100.0 * m),
+        ("stable but inaccurate", Some(m)) => format!("inaccurate {:.1} %", 100.0 * m),
+        ("missed contacts", _) => "missed".into(),
+        (o, _) => o.into(),
+    }
+}
+
+fn value_text(v: Value) -> String {
+    match v {
+        Value::Multiple(m) => format!("{m}"),
+        Value::Loading(Loading::Static) => "static".into(),
+        Value::Loading(Loading::Impact(s)) => format!("{s}"),
+    }
+}
+
+/// The maps as Markdown tables (rows: the map's vertical axis, largest first).
 pub fn table(runs: &[StabilityRun]) -> String {
-    let mut s = String::from("| scan | method | dt / stable | K / Hertz K | impact speed (m/s) | step / window | outcome | MRE | wall s |\n|---|---|---:|---:|---:|---:|---|---:|---:|\n");
-    for r in runs {
+    let mut s = String::new();
+    for map in MAPS {
+        let xs = map.x.values();
+        let mut ys = map.y.values();
+        ys.reverse();
         s.push_str(&format!(
-            "| {} | {} | {} | {} | {:.3e} | {} | {} | {} | {:.1} |\n",
-            r.scan,
-            r.method,
-            r.dt_multiple,
-            r.penalty_multiple,
-            r.impact_speed,
-            r.step_over_window,
-            r.outcome,
-            r.mre
-                .map_or(String::new(), |m| format!("{:.2} %", 100.0 * m)),
-            r.wall_seconds
+            "\n{}\n\n| {} \\ {} |",
+            map.title(),
+            map.y.describe(),
+            map.x.describe()
         ));
+        for &x in &xs {
+            s.push_str(&format!(" {} |", value_text(x)));
+        }
+        s.push_str("\n|---|");
+        s.push_str(&"---|".repeat(xs.len()));
+        for &y in &ys {
+            s.push_str(&format!("\n| {} |", value_text(y)));
+            for &x in &xs {
+                let p = map.point(x, y);
+                let text = runs
+                    .iter()
+                    .find(|r| r.point() == p)
+                    .map_or(String::new(), cell_text);
+                s.push_str(&format!(" {text} |"));
+            }
+        }
+        s.push('\n');
     }
     s
 }
 
 fn colour(outcome: &str) -> RGBColor {
     match outcome {
-        "stable and accurate" | "stable" => RGBColor(0, 150, 0),
-        "stable but inaccurate" => RGBColor(230, 160, 0),
-        "missed contacts" => RGBColor(0, 90, 220),
-        _ => RGBColor(210, 0, 0),
+        "stable and accurate" => RGBColor(0, 150, 60),
+        "stable" => RGBColor(120, 200, 120),
+        "stable but inaccurate" => RGBColor(240, 170, 0),
+        "missed contacts" => RGBColor(40, 100, 220),
+        _ => RGBColor(210, 30, 30),
     }
 }
 
-/// One panel per scan: the parameter (log axis) against the method, coloured by outcome.
-fn write_chart(path: &Path, runs: &[StabilityRun]) -> Result<()> {
+/// The cell edges of an axis's values: halfway between neighbours on a log scale.
+fn edges(values: &[f64]) -> Vec<(f64, f64)> {
+    let n = values.len();
+    (0..n)
+        .map(|k| {
+            let lo = if k > 0 {
+                (values[k - 1] * values[k]).sqrt()
+            } else {
+                values[0] / (values[1] / values[0]).sqrt()
+            };
+            let hi = if k + 1 < n {
+                (values[k] * values[k + 1]).sqrt()
+            } else {
+                values[n - 1] * (values[n - 1] / values[n - 2]).sqrt()
+            };
+            (lo, hi)
+        })
+        .collect()
+}
+
+/// One panel per map: coloured cells on log axes, the MRE of static runs written in, and on
+/// the speed maps the speed at which a particle crosses the window 0.5Δ in one step.
+pub fn write_chart(path: &Path, runs: &[StabilityRun]) -> Result<()> {
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (1200, 420)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (1400, 1180)).into_drawing_area();
         let draw = |e: &dyn std::fmt::Display| Error::output(path, e.to_string());
         root.fill(&WHITE).map_err(|e| draw(&e))?;
-        let (top, bottom) = root.split_vertically(370);
-        let panels = top.split_evenly((1, 3));
-        let scans: [(&str, &str, f64, f64); 3] = [
-            ("time step", "dt / estimated stable step", 0.15, 7.0),
-            ("penalty", "K / Hertz K (R = Δ/2)", 0.005, 200.0),
-            ("impact", "step of a particle / window 0.5Δ", 0.002, 1.5),
-        ];
-        for (panel, (scan, axis, lo, hi)) in panels.iter().zip(scans) {
+        let (top, bottom) = root.split_vertically(1120);
+        let panels = top.split_evenly((2, 2));
+        for (panel, map) in panels.iter().zip(MAPS) {
+            let xs = map.x.values();
+            let ys = map.y.values();
+            let xpos: Vec<f64> = xs.iter().map(|&v| map.x.position(v)).collect();
+            let ypos: Vec<f64> = ys.iter().map(|&v| map.y.position(v)).collect();
+            // The static row is a cell of the same height, apart from the speeds.
+            let xe = edges(&xpos);
+            let ye = if map.y == Axis::Speed {
+                let mut e = vec![(STATIC_ROW / 10f64.powf(0.25), STATIC_ROW * 10f64.powf(0.25))];
+                e.extend(edges(&ypos[1..]));
+                e
+            } else {
+                edges(&ypos)
+            };
+            let (x0, x1) = (xe[0].0, xe[xe.len() - 1].1);
+            let (y0, y1) = (ye[0].0, ye[ye.len() - 1].1);
             let mut chart = ChartBuilder::on(panel)
-                .caption(scan, ("sans-serif", 16))
-                .margin(10)
-                .x_label_area_size(35)
-                .y_label_area_size(110)
-                .build_cartesian_2d((lo..hi).log_scale(), -0.5f64..1.5f64)
+                .caption(map.title(), ("sans-serif", 18))
+                .margin(14)
+                .x_label_area_size(45)
+                .y_label_area_size(70)
+                .build_cartesian_2d(
+                    (x0..x1).log_scale().with_key_points(xpos.clone()),
+                    (y0..y1).log_scale().with_key_points(ypos.clone()),
+                )
                 .map_err(|e| draw(&e))?;
+            let number = |v: &f64| format!("{v}");
+            let speed = |v: &f64| {
+                if *v == STATIC_ROW {
+                    "static".to_string()
+                } else {
+                    format!("{v}")
+                }
+            };
             chart
                 .configure_mesh()
-                .x_desc(axis)
-                .y_labels(2)
-                .y_label_formatter(&|y| {
-                    if *y < 0.5 {
-                        "point-to-surface".into()
-                    } else {
-                        "short-range".into()
-                    }
+                .disable_mesh()
+                .x_desc(map.x.describe())
+                .y_desc(map.y.describe())
+                .x_label_formatter(&number)
+                .y_label_formatter(if map.y == Axis::Speed {
+                    &speed
+                } else {
+                    &number
                 })
-                .disable_y_mesh()
+                .label_style(("sans-serif", 13))
                 .draw()
                 .map_err(|e| draw(&e))?;
-            let pts = runs.iter().filter(|r| r.scan == scan).map(|r| {
-                let x = match scan {
-                    "time step" => r.dt_multiple,
-                    "penalty" => r.penalty_multiple,
-                    _ => r.step_over_window,
-                };
-                let y = if r.method == "short-range" { 1.0 } else { 0.0 };
-                Circle::new((x, y), 7, colour(&r.outcome).filled())
-            });
-            chart.draw_series(pts).map_err(|e| draw(&e))?;
+            let centre = TextStyle::from(("sans-serif", 13).into_font())
+                .pos(Pos::new(HPos::Center, VPos::Center));
+            for (i, &x) in xs.iter().enumerate() {
+                for (j, &y) in ys.iter().enumerate() {
+                    let p = map.point(x, y);
+                    let Some(r) = runs.iter().find(|r| r.point() == p) else {
+                        continue;
+                    };
+                    let (lo, hi) = (xe[i], ye[j]);
+                    chart
+                        .draw_series(std::iter::once(Rectangle::new(
+                            [(lo.0, hi.0), (lo.1, hi.1)],
+                            colour(&r.outcome).filled(),
+                        )))
+                        .map_err(|e| draw(&e))?;
+                    chart
+                        .draw_series(std::iter::once(Rectangle::new(
+                            [(lo.0, hi.0), (lo.1, hi.1)],
+                            WHITE.stroke_width(1),
+                        )))
+                        .map_err(|e| draw(&e))?;
+                    if let Some(m) = r.mre {
+                        let c = ((lo.0 * lo.1).sqrt(), (hi.0 * hi.1).sqrt());
+                        chart
+                            .draw_series(std::iter::once(Text::new(
+                                format!("{:.0} %", 100.0 * m),
+                                c,
+                                centre.clone(),
+                            )))
+                            .map_err(|e| draw(&e))?;
+                    }
+                }
+            }
+            if map.y == Axis::Speed {
+                // v dt = 0.5Δ, with each column's time step.
+                let line: Vec<(f64, f64)> = xs
+                    .iter()
+                    .zip(&xpos)
+                    .filter_map(|(&x, &xp)| {
+                        let p = map.point(x, Value::Loading(Loading::Impact(IMPACT_SPEEDS[0])));
+                        let r = runs.iter().find(|r| r.point() == p && r.dt > 0.0)?;
+                        Some((xp, r.window / r.dt))
+                    })
+                    .collect();
+                chart
+                    .draw_series(LineSeries::new(line, BLACK.stroke_width(2)))
+                    .map_err(|e| draw(&e))?;
+            }
         }
         let legend = [
-            "stable and accurate (impact: stable)",
-            "stable but inaccurate (MRE > 10 %)",
-            "missed contacts",
-            "blew up",
+            ("stable and accurate", "stable and accurate (MRE ≤ 10 %)"),
+            (
+                "stable but inaccurate",
+                "stable but inaccurate (MRE > 10 %)",
+            ),
+            ("stable", "stable (impact)"),
+            ("missed contacts", "missed contacts"),
+            ("blew up", "blew up"),
         ];
-        let outcomes = [
-            "stable",
-            "stable but inaccurate",
-            "missed contacts",
-            "blew up",
-        ];
-        for (k, (text, o)) in legend.iter().zip(outcomes).enumerate() {
-            let x = 20 + 290 * k as i32;
+        // Laid out by an estimate of the text's width (7 px a character at 14 px).
+        let mut x = 20;
+        for (outcome, text) in legend {
             bottom
-                .draw(&Circle::new((x, 25), 7, colour(o).filled()))
+                .draw(&Rectangle::new(
+                    [(x, 14), (x + 18, 32)],
+                    colour(outcome).filled(),
+                ))
                 .map_err(|e| draw(&e))?;
             bottom
-                .draw(&Text::new(*text, (x + 12, 18), ("sans-serif", 14)))
+                .draw(&Text::new(text, (x + 24, 16), ("sans-serif", 14)))
                 .map_err(|e| draw(&e))?;
+            x += 24 + 7 * text.chars().count() as i32 + 30;
         }
+        bottom
+            .draw(&PathElement::new(
+                vec![(x, 23), (x + 30, 23)],
+                BLACK.stroke_width(2),
+            ))
+            .map_err(|e| draw(&e))?;
+        bottom
+            .draw(&Text::new(
+                "v·dt = 0.5Δ: one step crosses the window",
+                (x + 36, 16),
+                ("sans-serif", 14),
+            ))
+            .map_err(|e| draw(&e))?;
         root.present().map_err(|e| draw(&e))?;
     }
     write_atomically(path, |w| std::io::Write::write_all(w, svg.as_bytes()))
@@ -343,5 +922,42 @@ mod tests {
             classify_error("kinetic energy exploded to 4.3e3 J at step 25"),
             "blew up"
         );
+    }
+
+    /// Every cell of every map is one run, and the maps share the runs at their defaults.
+    #[test]
+    fn the_plan_fills_every_map_once() {
+        let plan = plan();
+        for map in MAPS {
+            let cells = map.x.values().len() * map.y.values().len();
+            assert_eq!(plan.iter().filter(|p| map.contains(p)).count(), cells);
+        }
+        let (dt, k, v) = (
+            DT_MULTIPLES.len(),
+            PENALTY_MULTIPLES.len(),
+            IMPACT_SPEEDS.len(),
+        );
+        // Point-to-surface: dt × K static, dt × v at K = 1, K × v at dt = 0.8 less the
+        // shared row; short-range: dt × (v and static).
+        assert_eq!(plan.len(), dt * k + dt * v + (k - 1) * v + dt * (v + 1));
+    }
+
+    /// An impact scene has no load, the sphere's velocity, and an undamped solver.
+    #[test]
+    fn impact_scenes_throw_the_sphere_without_a_load() {
+        for method in [ContactMethod::PointToSurface, ContactMethod::ShortRange] {
+            let p = RunPoint {
+                method,
+                dt_multiple: 0.5,
+                penalty_multiple: 1.0,
+                loading: Loading::Impact(3.16),
+            };
+            let case = case(&p, 0.088);
+            let scene = Scene::parse(&case.scene, "impact", Path::new(".")).expect("parses");
+            assert!(scene.loads.is_empty(), "{}", case.scene);
+            assert_eq!(scene.bodies[0].velocity, Some([0.0, 0.0, -3.16]));
+            assert_eq!(scene.solver.safety, Some(0.5));
+            assert_eq!(scene.solver.damping, None);
+        }
     }
 }
