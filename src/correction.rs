@@ -59,6 +59,18 @@ pub const ANDERSON_DEPTH: usize = 5;
 /// of one particle alone; β = 1.3 takes 7 passes on the sphere, 1.0 and 1.6 take 7 and 6-7.
 pub const ANDERSON_MIXING: f64 = 1.3;
 
+/// The error, relative to the smallest so far, at which the balanced iteration drops its
+/// Anderson history and halves its steps.
+const DIVERGENCE: f64 = 1.5;
+
+/// Balancing passes without progress (the smallest error cut by 1 %) after which the balanced
+/// iteration stops: a mesh on which the factors cannot balance every particle (the coarse
+/// tetrahedral sphere of `meshes/` stalls at 7 %) then costs a few passes, not [`MAX_PASSES`].
+const STALL: usize = 10;
+
+/// Largest change of `ln g` per axis that one Newton step asks for (a factor e³ ≈ 20).
+const MAX_STEP: f64 = 3.0;
+
 /// How surface correction factors are computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -110,6 +122,13 @@ pub struct SurfaceCorrection {
 #[inline]
 fn ellipsoid(n2: [f64; 3], inv_gbar2: [f64; 3]) -> f64 {
     1.0 / (n2[0] * inv_gbar2[0] + n2[1] * inv_gbar2[1] + n2[2] * inv_gbar2[2]).sqrt()
+}
+
+/// `n_α²` of a bond `ξ` of length `len` (one division, not three).
+#[inline]
+fn direction_squared(xi: Vec3, len: f64) -> [f64; 3] {
+    let inv = 1.0 / (len * len);
+    [xi.x * xi.x * inv, xi.y * xi.y * inv, xi.z * xi.z * inv]
 }
 
 /// `¼ c ε² / W_∞`: with `c = 12E/(πδ⁴)` and `W_∞ = (3/5) E ε²` it is `5/(π δ⁴)`, so that a
@@ -166,8 +185,7 @@ fn bond_pass(
                 for b in bonds.range(i) {
                     let j = bonds.partner[b] as usize;
                     let len = bonds.length[b];
-                    let d = (position[j] - position[i]) / len;
-                    let n2 = [d.x * d.x, d.y * d.y, d.z * d.z];
+                    let n2 = direction_squared(position[j] - position[i], len);
                     let f = factor(i, source[j], n2) * volume_correction(len, horizon, spacing);
                     out[b - first] = f;
                     let a = len * f * volume[j];
@@ -198,8 +216,7 @@ fn uncorrected_energies(
             for b in bonds.range(i) {
                 let j = bonds.partner[b] as usize;
                 let len = bonds.length[b];
-                let d = (position[j] - position[i]) / len;
-                let n2 = [d.x * d.x, d.y * d.y, d.z * d.z];
+                let n2 = direction_squared(position[j] - position[i], len);
                 let a = len * volume_correction(len, horizon, spacing) * volume[j];
                 for k in 0..3 {
                     w[k] += a * n2[k] * n2[k];
@@ -325,8 +342,7 @@ impl PairGeometry {
                     for b in bonds.range(i) {
                         let j = bonds.partner[b] as usize;
                         let len = bonds.length[b];
-                        let d = (position[j] - position[i]) / len;
-                        let n2 = [d.x * d.x, d.y * d.y, d.z * d.z];
+                        let n2 = direction_squared(position[j] - position[i], len);
                         let base = scale * len * volume_correction(len, horizon, spacing);
                         let a = base * volume[j];
                         for k in 0..3 {
@@ -574,7 +590,8 @@ pub fn surface_correction_with(
 /// Newton step), and Anderson acceleration (type II, depth [`ANDERSON_DEPTH`]): the next `x`
 /// is `x + β f − (ΔX + β ΔF) γ`, `γ` minimising `|f − ΔF γ|²` over the differences of the last
 /// iterates and residuals (sums over particles weighted by `share`). A step that makes the
-/// error grow restarts the history.
+/// error grow by [`DIVERGENCE`] returns to the best iterate and restarts with shorter steps;
+/// [`STALL`] passes without progress end the iteration.
 fn balance(
     uncorrected: &[Uncorrected],
     share: &[f64],
@@ -593,7 +610,8 @@ fn balance(
                 // A particle without bonds has W = 0 and keeps g = 1.
                 let l = wi.map(|v| if v > 0.0 { v.ln() } else { 0.0 });
                 let s = inv * Vector3::from(l);
-                [s[0], s[1], s[2]]
+                // A nearly singular J must not throw a factor out by orders of magnitude.
+                [s[0], s[1], s[2]].map(|v| v.clamp(-MAX_STEP, MAX_STEP))
             })
             .collect()
     };
@@ -620,34 +638,41 @@ fn balance(
     let mut x = vec![0.0; 3 * n];
     let mut w: Vec<[f64; 3]> = uncorrected.iter().map(|u| u.w).collect();
     let mut error = max_error(&w);
-    let mut best = (error, x.clone());
+    let mut best = (error, x.clone(), w.clone());
+    let mut mixing = ANDERSON_MIXING;
     let mut dx: VecDeque<Vec<f64>> = VecDeque::new();
     let mut df: VecDeque<Vec<f64>> = VecDeque::new();
     let mut last: Option<(Vec<f64>, Vec<f64>)> = None;
     let mut passes = 0;
-    while error >= BALANCE_TOLERANCE && passes < MAX_PASSES {
+    // The last pass that cut the smallest error by a percent, and that error.
+    let mut progress = (0, error);
+    while error >= BALANCE_TOLERANCE && passes < MAX_PASSES && passes - progress.0 < STALL {
+        if error > DIVERGENCE * best.0 {
+            // The step made things worse: back to the best iterate, without the history
+            // that led astray, and with shorter steps from now on.
+            x.clone_from(&best.1);
+            w.clone_from(&best.2);
+            dx.clear();
+            df.clear();
+            last = None;
+            mixing *= 0.5;
+        }
         let f = residual(&w);
         if let Some((x_prev, f_prev)) = last.take() {
-            if error > best.0 * 1.5 {
-                // Diverging: forget the history, take a plain step from here.
-                dx.clear();
-                df.clear();
-            } else {
-                dx.push_back(x.par_iter().zip(&x_prev).map(|(a, b)| a - b).collect());
-                df.push_back(f.par_iter().zip(&f_prev).map(|(a, b)| a - b).collect());
-                if dx.len() > ANDERSON_DEPTH {
-                    dx.pop_front();
-                    df.pop_front();
-                }
+            dx.push_back(x.par_iter().zip(&x_prev).map(|(a, b)| a - b).collect());
+            df.push_back(f.par_iter().zip(&f_prev).map(|(a, b)| a - b).collect());
+            if dx.len() > ANDERSON_DEPTH {
+                dx.pop_front();
+                df.pop_front();
             }
         }
         let gamma = anderson_coefficients(&df, &f, dot);
         let next: Vec<f64> = (0..x.len())
             .into_par_iter()
             .map(|k| {
-                let mut v = x[k] + ANDERSON_MIXING * f[k];
+                let mut v = x[k] + mixing * f[k];
                 for (p, g) in gamma.iter().enumerate() {
-                    v -= g * (dx[p][k] + ANDERSON_MIXING * df[p][k]);
+                    v -= g * (dx[p][k] + mixing * df[p][k]);
                 }
                 v
             })
@@ -657,7 +682,7 @@ fn balance(
         } else {
             dx.clear();
             df.clear();
-            x.iter().zip(&f).map(|(a, b)| a + b).collect()
+            x.iter().zip(&f).map(|(a, b)| a + mixing * b).collect()
         };
         last = Some((std::mem::replace(&mut x, next), f));
         let r: Vec<[f64; 3]> = x
@@ -668,7 +693,10 @@ fn balance(
         passes += 1;
         error = max_error(&w);
         if error < best.0 {
-            best = (error, x.clone());
+            best = (error, x.clone(), w.clone());
+        }
+        if error < 0.99 * progress.1 {
+            progress = (passes, error);
         }
     }
     let r = best
