@@ -1,5 +1,10 @@
-//! VTK output for ParaView: `.vtu` unstructured grids (vtkio, XML, zlib-compressed binary) and
+//! VTK output for ParaView: `.vtu` unstructured grids (vtkio, XML, LZ4-compressed binary) and
 //! `.pvd` collections for time series.
+//!
+//! LZ4 rather than zlib: vtkio feeds its zlib encoder one value at a time, and flate2 clears a
+//! 32 KiB output buffer on every call, so zlib made writing a 73k-particle case take 0.7 s; LZ4
+//! blocks are compressed whole (0.05 s, files about 25 % larger than zlib level 1). VTK reads
+//! them with `vtkLZ4DataCompressor` (VTK 8.1 and later, ParaView 5.5 and later).
 //!
 //! Every file is written to a temporary name beside its target and renamed when complete, so
 //! an interrupted run never leaves a truncated file under the real name.
@@ -127,7 +132,8 @@ pub fn write_vtu(
         data: DataSet::inline(piece),
     };
     let xml = vtk
-        .try_into_xml_format(Compressor::ZLib, 1)
+        // Any level but 0, which vtkio takes to mean "uncompressed"; LZ4 has no levels here.
+        .try_into_xml_format(Compressor::LZ4, 1)
         .map_err(|e| Error::output(path, e))?;
     write_atomically(path, |w| {
         xml.write(w)
