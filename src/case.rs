@@ -243,12 +243,10 @@ impl PdCase {
         let source: Vec<usize> = (0..position.len())
             .map(|j| ghosts.source_of(j, particles.len()))
             .collect();
-        let share: Vec<f64> = (0..particles.len()).map(|i| ghosts.share(i)).collect();
         let correction = surface_correction_with(
             &position,
             &ghosts.partner_volumes(&particles.volume),
             &source,
-            &share,
             &bonds,
             horizon,
             spacing,
