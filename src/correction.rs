@@ -23,6 +23,8 @@
 //! Stretches are linearised (`s = ε n_α²`): the factors are ratios of energies, so they are the
 //! ε → 0 limit of the paper's computation and do not depend on the calibration strain.
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 use crate::discretize::Vec3;
@@ -127,20 +129,20 @@ fn relative_energies(
         .collect()
 }
 
-/// Per-bond data of the balanced correction's passes (see [`relative_energies`]).
-struct BondGeometry {
-    data: Vec<BondDatum>,
-    offsets: Vec<usize>,
-}
+/// Particles per parallel work item of the correction's passes.
+const BLOCK: usize = 256;
 
-/// One bond of [`BondGeometry`].
-struct BondDatum {
-    /// `n_α²` of the bond's direction.
-    n2: [f32; 3],
+/// Per-bond data of the balanced correction's passes (see [`relative_energies`]), as one
+/// single-precision array per quantity so that a pass streams through them eight bonds at a
+/// time.
+struct BondGeometry {
+    /// `n_α²` of each bond's direction, per axis.
+    n2: [Vec<f32>; 3],
     /// `¼ c ε² |ξ| v_c V_j / W_∞`: the bond's energy before the correction factor.
-    weight: f32,
+    weight: Vec<f32>,
     /// The partner's source particle (itself, or the particle a mirror image copies).
-    source: u32,
+    source: Vec<u32>,
+    offsets: Vec<usize>,
 }
 
 impl BondGeometry {
@@ -153,49 +155,169 @@ impl BondGeometry {
         spacing: f64,
     ) -> BondGeometry {
         let scale = 5.0 / (std::f64::consts::PI * horizon.powi(4));
-        let data: Vec<BondDatum> = (0..bonds.particles())
-            .into_par_iter()
-            .flat_map_iter(|i| {
-                bonds.range(i).map(move |b| {
+        let total = bonds.len();
+        let mut n2 = [vec![0f32; total], vec![0f32; total], vec![0f32; total]];
+        let mut weight = vec![0f32; total];
+        let mut src = vec![0u32; total];
+        let [nx, ny, nz] = &mut n2;
+        let work: Vec<_> = bonds
+            .blocks(nx, BLOCK)
+            .into_iter()
+            .zip(bonds.blocks(ny, BLOCK))
+            .zip(bonds.blocks(nz, BLOCK))
+            .zip(bonds.blocks(&mut weight, BLOCK))
+            .zip(bonds.blocks(&mut src, BLOCK))
+            .map(|((((x, (_, y)), (_, z)), (_, w)), (_, s))| (x.0, x.1, y, z, w, s))
+            .collect();
+        work.into_par_iter().for_each(|(particles, x, y, z, w, s)| {
+            let base = bonds.offsets[particles.start];
+            for i in particles {
+                for b in bonds.range(i) {
                     let j = bonds.partner[b] as usize;
                     let len = bonds.length(b);
                     let d = (position[j] - position[i]) / len;
-                    BondDatum {
-                        n2: [(d.x * d.x) as f32, (d.y * d.y) as f32, (d.z * d.z) as f32],
-                        weight: (scale * len * volume_correction(len, horizon, spacing) * volume[j])
-                            as f32,
-                        source: source[j] as u32,
-                    }
-                })
-            })
-            .collect();
+                    let k = b - base;
+                    x[k] = (d.x * d.x) as f32;
+                    y[k] = (d.y * d.y) as f32;
+                    z[k] = (d.z * d.z) as f32;
+                    w[k] =
+                        (scale * len * volume_correction(len, horizon, spacing) * volume[j]) as f32;
+                    s[k] = source[j] as u32;
+                }
+            }
+        });
+        // Every source is a particle: the passes gather their factors unchecked.
+        let n = bonds.particles();
+        assert!(src.par_iter().all(|&s| (s as usize) < n));
         BondGeometry {
-            data,
+            n2,
+            weight,
+            source: src,
             offsets: bonds.offsets.clone(),
         }
     }
 
-    /// [`relative_energies`] with the balanced factor `1/√(Σ n_α² r_iα r_jα)`.
+    /// [`relative_energies`] with the balanced factor `1/√(Σ n_α² r_iα r_jα)`, `r` given per
+    /// axis. The factors only have to be balanced to 1 % (the final ones are recomputed in
+    /// double precision), so single precision is enough here and halves the memory traffic
+    /// of a pass that is repeated up to [`MAX_PASSES`] times.
     fn relative_energies(&self, r: &[[f64; 3]]) -> Vec<[f64; 3]> {
-        (0..self.offsets.len() - 1)
-            .into_par_iter()
-            .map(|i| {
-                let ri = r[i].map(|x| x as f32);
-                let mut w = [0.0f32; 3];
-                for bond in &self.data[self.offsets[i]..self.offsets[i + 1]] {
-                    let n2 = bond.n2;
-                    let rj = &r[bond.source as usize];
-                    let q = n2[0] * ri[0] * rj[0] as f32
-                        + n2[1] * ri[1] * rj[1] as f32
-                        + n2[2] * ri[2] * rj[2] as f32;
-                    let a = bond.weight / q.sqrt();
-                    for k in 0..3 {
-                        w[k] += a * n2[k] * n2[k];
-                    }
+        let r: [Vec<f32>; 3] = std::array::from_fn(|k| r.iter().map(|ri| ri[k] as f32).collect());
+        // The vector kernel gathers `r[source]` unchecked (see `new`).
+        assert_eq!(r[0].len(), self.offsets.len() - 1);
+        let n = self.offsets.len() - 1;
+        let mut out = vec![[0.0f64; 3]; n];
+        out.par_chunks_mut(BLOCK)
+            .enumerate()
+            .for_each(|(c, chunk)| {
+                for (k, w) in chunk.iter_mut().enumerate() {
+                    let i = c * BLOCK + k;
+                    let bonds = self.offsets[i]..self.offsets[i + 1];
+                    *w = self.particle_energy(&r, i, bonds).map(f64::from);
                 }
-                w.map(f64::from)
-            })
-            .collect()
+            });
+        out
+    }
+
+    /// Relative energies of particle `i` (its bonds are `bonds`).
+    #[inline]
+    fn particle_energy(&self, r: &[Vec<f32>; 3], i: usize, bonds: Range<usize>) -> [f32; 3] {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+            {
+                // SAFETY: the processor has the features; every source is below the particle
+                // count (checked in `new`), which is `r`'s length (checked in
+                // `relative_energies`), and `bonds` lies within the per-bond arrays.
+                return unsafe { self.particle_energy_avx2(r, i, bonds) };
+            }
+        }
+        self.particle_energy_portable(r, i, bonds)
+    }
+
+    fn particle_energy_portable(
+        &self,
+        r: &[Vec<f32>; 3],
+        i: usize,
+        bonds: Range<usize>,
+    ) -> [f32; 3] {
+        let ri = [r[0][i], r[1][i], r[2][i]];
+        let mut w = [0.0f32; 3];
+        for b in bonds {
+            let n2 = [self.n2[0][b], self.n2[1][b], self.n2[2][b]];
+            let j = self.source[b] as usize;
+            let q = n2[0] * ri[0] * r[0][j] + n2[1] * ri[1] * r[1][j] + n2[2] * ri[2] * r[2][j];
+            let a = self.weight[b] / q.sqrt();
+            for k in 0..3 {
+                w[k] += a * n2[k] * n2[k];
+            }
+        }
+        w
+    }
+
+    /// [`Self::particle_energy_portable`] eight bonds at a time in AVX2/FMA, the partners'
+    /// factors gathered.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn particle_energy_avx2(
+        &self,
+        r: &[Vec<f32>; 3],
+        i: usize,
+        bonds: Range<usize>,
+    ) -> [f32; 3] {
+        use std::arch::x86_64::*;
+        let ri = [r[0][i], r[1][i], r[2][i]];
+        let (rix, riy, riz) = (
+            _mm256_set1_ps(ri[0]),
+            _mm256_set1_ps(ri[1]),
+            _mm256_set1_ps(ri[2]),
+        );
+        let (nx, ny, nz) = (
+            &self.n2[0][bonds.clone()],
+            &self.n2[1][bonds.clone()],
+            &self.n2[2][bonds.clone()],
+        );
+        let weight = &self.weight[bonds.clone()];
+        let source = &self.source[bonds.clone()];
+        let (mut ax, mut ay, mut az) = (
+            _mm256_setzero_ps(),
+            _mm256_setzero_ps(),
+            _mm256_setzero_ps(),
+        );
+        let groups = source.len() / 8;
+        for g in 0..groups {
+            let k = 8 * g;
+            let idx = _mm256_loadu_si256(source[k..k + 8].as_ptr().cast());
+            let x = _mm256_loadu_ps(nx[k..k + 8].as_ptr());
+            let y = _mm256_loadu_ps(ny[k..k + 8].as_ptr());
+            let z = _mm256_loadu_ps(nz[k..k + 8].as_ptr());
+            let w = _mm256_loadu_ps(weight[k..k + 8].as_ptr());
+            // Sources index `r` (checked by the caller), so the gathers stay in bounds.
+            let rjx = _mm256_i32gather_ps::<4>(r[0].as_ptr(), idx);
+            let rjy = _mm256_i32gather_ps::<4>(r[1].as_ptr(), idx);
+            let rjz = _mm256_i32gather_ps::<4>(r[2].as_ptr(), idx);
+            let q = _mm256_fmadd_ps(
+                _mm256_mul_ps(z, riz),
+                rjz,
+                _mm256_fmadd_ps(
+                    _mm256_mul_ps(y, riy),
+                    rjy,
+                    _mm256_mul_ps(_mm256_mul_ps(x, rix), rjx),
+                ),
+            );
+            let a = _mm256_div_ps(w, _mm256_sqrt_ps(q));
+            ax = _mm256_fmadd_ps(_mm256_mul_ps(a, x), x, ax);
+            ay = _mm256_fmadd_ps(_mm256_mul_ps(a, y), y, ay);
+            az = _mm256_fmadd_ps(_mm256_mul_ps(a, z), z, az);
+        }
+        let sum = |v: __m256| -> f32 {
+            let mut l = [0.0f32; 8];
+            _mm256_storeu_ps(l.as_mut_ptr(), v);
+            ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]))
+        };
+        let tail = self.particle_energy_portable(r, i, bonds.start + 8 * groups..bonds.end);
+        [sum(ax) + tail[0], sum(ay) + tail[1], sum(az) + tail[2]]
     }
 }
 
@@ -311,20 +433,23 @@ pub fn surface_correction_with(
             energies(&|i, j, n2| ellipsoid(n2, combine(&operand[i], &operand[source[j]])))
         }
     };
-    let bond_factor: Vec<f64> = (0..n)
+    let mut bond_factor = vec![0.0f64; bonds.len()];
+    bonds
+        .blocks(&mut bond_factor, BLOCK)
         .into_par_iter()
-        .flat_map_iter(|i| {
-            let operand = &operand;
-            bonds.range(i).map(move |b| {
-                let j = bonds.partner[b] as usize;
-                let len = bonds.length(b);
-                let d = (position[j] - position[i]) / len;
-                let n2 = [d.x * d.x, d.y * d.y, d.z * d.z];
-                ellipsoid(n2, combine(&operand[i], &operand[source[j]]))
-                    * volume_correction(len, horizon, spacing)
-            })
-        })
-        .collect();
+        .for_each(|(particles, out)| {
+            let base = bonds.offsets[particles.start];
+            for i in particles {
+                for b in bonds.range(i) {
+                    let j = bonds.partner[b] as usize;
+                    let len = bonds.length(b);
+                    let d = (position[j] - position[i]) / len;
+                    let n2 = [d.x * d.x, d.y * d.y, d.z * d.z];
+                    out[b - base] = ellipsoid(n2, combine(&operand[i], &operand[source[j]]))
+                        * volume_correction(len, horizon, spacing);
+                }
+            }
+        });
     SurfaceCorrection {
         g,
         bond_factor,

@@ -157,6 +157,28 @@ impl BondList {
         f64::from(self.length[b])
     }
 
+    /// Splits a per-bond array into disjoint slices, one per block of `block` consecutive
+    /// particles, so that the blocks can be filled in parallel. Each item is the block's
+    /// particle range and its bonds' part of `values` (which must have one value per bond).
+    pub fn blocks<'a, T>(
+        &self,
+        values: &'a mut [T],
+        block: usize,
+    ) -> Vec<(std::ops::Range<usize>, &'a mut [T])> {
+        let n = self.particles();
+        let block = block.max(1);
+        let mut out = Vec::with_capacity(n.div_ceil(block));
+        let mut rest = values;
+        for start in (0..n).step_by(block) {
+            let end = (start + block).min(n);
+            let (head, tail) =
+                std::mem::take(&mut rest).split_at_mut(self.offsets[end] - self.offsets[start]);
+            rest = tail;
+            out.push((start..end, head));
+        }
+        out
+    }
+
     /// Bytes held by the arrays.
     pub fn bytes(&self) -> usize {
         self.offsets.len() * std::mem::size_of::<usize>()
