@@ -4,11 +4,11 @@
 //! The body is a sphere of radius 1 m whose particles are the points of a simple cubic lattice
 //! of spacing Δ inside it, each of volume Δ³ (what LAMMPS's `lattice sc` and `create_atoms`
 //! make), sorted in Morton order as [`discretize`](crate::discretize) sorts mesh nodes. Bonds
-//! come from [`build_bonds`], weights are the bond-based PMB ones, `w = c v_c V_i V_j / L` with
+//! come from [`build_pairs`] (each pair once), weights are the bond-based PMB ones, `w = c v_c V_i V_j / L` with
 //! `c = 12E/(πδ⁴)` (Eq. 5) and the volume correction `v_c` of Eq. 10, which is the partial
 //! volume LAMMPS applies to bonds near the edge of the horizon. There is no surface correction
 //! (LAMMPS has none) and no contact. Every step is velocity Verlet with the forces of
-//! [`bond_force`], the kernel the solvers run.
+//! [`pair_forces`], the pass the solvers run.
 //!
 //! As LAMMPS's `Loop time`, the loop time excludes the setup (lattice, bonds, weights, the
 //! first force evaluation); the setup is timed separately.
@@ -20,8 +20,8 @@ use rayon::prelude::*;
 use crate::correction::{micromodulus, volume_correction};
 use crate::discretize::{sort_morton, Vec3};
 use crate::error::{Error, Result};
-use crate::model::bond_force;
-use crate::neighbours::build_bonds;
+use crate::neighbours::build_pairs;
+use crate::pairs::{pair_forces, ForceBuffers, PairKinematics, PairList};
 
 /// Radius of the sphere, m.
 pub const RADIUS: f64 = 1.0;
@@ -191,56 +191,58 @@ fn run_in_pool(spec: &LatticeSphere) -> BenchReport {
     let horizon = spec.horizon_factor * dx;
     let x = lattice_sphere(dx);
     let n = x.len();
-    let bonds = build_bonds(&x, horizon);
     let volume = dx * dx * dx;
     let c = micromodulus(YOUNGS, horizon);
-    let weight: Vec<f32> = bonds
-        .length
-        .par_iter()
-        .map(|&l| {
-            let l = f64::from(l);
-            (c * volume_correction(l, horizon, dx) * volume * volume / l) as f32
-        })
-        .collect();
+    let list = PairList::from_pairs(build_pairs(&x, horizon), |pairs, _, b| {
+        let l = pairs.length(b);
+        (c * volume_correction(l, horizon, dx) * volume * volume / l) as f32
+    });
     let mass = DENSITY * volume;
     let mut y = x.clone();
-    let mut v: Vec<Vec3> = x.par_iter().map(|p| p * RATE).collect();
-    let mut f = vec![Vec3::zeros(); n];
-    f.par_iter_mut()
-        .enumerate()
-        .for_each(|(i, fi)| *fi = bond_force(&y, &bonds, &weight, i));
+    // Force and velocity of each particle, side by side: the force pass kicks the velocity.
+    let mut state: Vec<(Vec3, Vec3)> = x.par_iter().map(|p| (Vec3::zeros(), p * RATE)).collect();
+    let mut buffers = ForceBuffers::default();
+    pair_forces(
+        &list,
+        &y,
+        PairKinematics::Finite,
+        &mut buffers,
+        &mut state,
+        |_, force, s| s.0 = force,
+    );
     let setup_seconds = start.elapsed().as_secs_f64();
-    let initial_energy = energy(&x, &y, &v, &bonds, &weight, mass);
+    let initial_energy = energy(&y, &state, &list, mass);
 
     let half = 0.5 * DT / mass;
     let start = Instant::now();
     for _ in 0..spec.steps {
         // Half kick and drift.
-        v.par_chunks_mut(CHUNK)
+        state
+            .par_chunks_mut(CHUNK)
             .zip(y.par_chunks_mut(CHUNK))
-            .zip(f.par_chunks(CHUNK))
-            .for_each(|((v, y), f)| {
-                for ((v, y), f) in v.iter_mut().zip(y).zip(f) {
-                    *v += f * half;
+            .for_each(|(s, y)| {
+                for ((f, v), y) in s.iter_mut().zip(y) {
+                    *v += *f * half;
                     *y += *v * DT;
                 }
             });
         // Forces at the new positions, with the second half kick in the same pass.
-        let pos: &[Vec3] = &y;
-        f.par_chunks_mut(CHUNK)
-            .zip(v.par_chunks_mut(CHUNK))
-            .enumerate()
-            .for_each(|(chunk, (f, v))| {
-                for (k, (f, v)) in f.iter_mut().zip(v).enumerate() {
-                    *f = bond_force(pos, &bonds, &weight, chunk * CHUNK + k);
-                    *v += *f * half;
-                }
-            });
+        pair_forces(
+            &list,
+            &y,
+            PairKinematics::Finite,
+            &mut buffers,
+            &mut state,
+            |_, force, (f, v)| {
+                *f = force;
+                *v += force * half;
+            },
+        );
     }
     let loop_seconds = start.elapsed().as_secs_f64();
-    let final_energy = energy(&x, &y, &v, &bonds, &weight, mass);
-    let directed = bonds.len();
-    let bond_bytes = bonds.bytes() + weight.len() * std::mem::size_of::<f32>();
+    let final_energy = energy(&y, &state, &list, mass);
+    let directed = list.directed_bonds();
+    let bond_bytes = list.bytes();
     BenchReport {
         particles: n,
         bonds_per_particle: directed as f64 / n.max(1) as f64,
@@ -257,29 +259,13 @@ fn run_in_pool(spec: &LatticeSphere) -> BenchReport {
     }
 }
 
-/// Kinetic energy `Σ ½ m v²` plus strain energy `¼ Σ_directed w (|y| − L)²`.
-fn energy(
-    x: &[Vec3],
-    y: &[Vec3],
-    v: &[Vec3],
-    bonds: &crate::neighbours::BondList,
-    weight: &[f32],
-    mass: f64,
-) -> f64 {
-    let kinetic: f64 = v.par_iter().map(|v| 0.5 * mass * v.norm_squared()).sum();
-    let strain: f64 = (0..x.len())
-        .into_par_iter()
-        .map(|i| {
-            bonds
-                .range(i)
-                .map(|b| {
-                    let s = (y[bonds.partner[b] as usize] - y[i]).norm() - bonds.length(b);
-                    0.25 * f64::from(weight[b]) * s * s
-                })
-                .sum::<f64>()
-        })
+/// Kinetic energy `Σ ½ m v²` plus strain energy `½ Σ_pairs w (|y| − L)²`.
+fn energy(y: &[Vec3], state: &[(Vec3, Vec3)], list: &PairList, mass: f64) -> f64 {
+    let kinetic: f64 = state
+        .par_iter()
+        .map(|(_, v)| 0.5 * mass * v.norm_squared())
         .sum();
-    kinetic + strain
+    kinetic + list.strain_energy(y)
 }
 
 /// Peak resident set size (`VmHWM` of /proc/self/status), MB; `None` where there is no such file.

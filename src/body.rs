@@ -15,6 +15,7 @@ use crate::correction::{micromodulus, CorrectionMethod};
 use crate::discretize::{Vec3, NOT_A_PARTICLE};
 use crate::error::{Error, Result};
 use crate::generators;
+use crate::pairs::{ForceBuffers, PairList};
 use crate::scene::{BodyKind, BodySpec, Kinematics, Motion, Scene};
 use crate::segments::{quad_area_normal, MasterSegment};
 
@@ -58,6 +59,10 @@ pub struct PdBody {
     pub bond_weight: Vec<f32>,
     /// Per particle: `Σ_j w_ij`, the sum of its bond stiffnesses (N/m).
     pub stiffness: Vec<f64>,
+    /// The bonds each pair once, with their weights: what the force pass walks.
+    pub pairs: PairList,
+    /// Per-thread scratch of the force pass.
+    pub force_buffers: ForceBuffers,
     /// `ρ V_i`.
     pub mass: Vec<f64>,
     /// Fixed components per particle (supports and symmetry planes).
@@ -152,6 +157,13 @@ impl PdBody {
             force: vec![Vec3::zeros(); n],
             contact_force: vec![Vec3::zeros(); n],
             contact_stiffness: vec![0.0; n],
+            pairs: PairList::from_bonds(
+                bonds,
+                &bond_weight,
+                &(0..n).map(|i| case.ghosts.share(i)).collect::<Vec<_>>(),
+                n,
+            ),
+            force_buffers: ForceBuffers::default(),
             bond_weight,
             stiffness,
             case,

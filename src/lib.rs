@@ -36,6 +36,7 @@ pub mod generators;
 pub mod model;
 pub mod neighbours;
 pub mod output;
+pub mod pairs;
 pub mod run;
 pub mod scene;
 pub mod segments;

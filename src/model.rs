@@ -9,12 +9,9 @@ use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
 use crate::contact::{hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::discretize::{Vec3, NOT_A_PARTICLE};
 use crate::error::Result;
-use crate::neighbours::BondList;
+use crate::pairs::{pair_forces, PairKinematics};
 use crate::scene::{BodyKind, ContactMethod, Kinematics, Scene};
 use crate::shortrange::ShortRangePass;
-
-/// Particles per parallel work item of the bond loop.
-const CHUNK: usize = 256;
 
 /// Bodies and contact passes of a scene.
 #[derive(Clone, Debug)]
@@ -247,293 +244,21 @@ pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
         *img = ghosts.reflect(real[ghosts.source[g] as usize], ghosts.mask[g]);
     }
     let pos: &[Vec3] = pos;
-    let bonds = &pd.case.bonds;
-    let w = &pd.bond_weight;
+    let kinematics = match pd.kinematics {
+        Kinematics::Small => PairKinematics::Small(&pd.reference),
+        Kinematics::Finite => PairKinematics::Finite,
+    };
     let load = &pd.load;
-    let reference = &pd.reference;
-    let small = pd.kinematics == Kinematics::Small;
-    pd.force
-        .par_chunks_mut(CHUNK)
-        .enumerate()
-        .for_each(|(c, out)| {
-            for (k, f) in out.iter_mut().enumerate() {
-                let i = c * CHUNK + k;
-                let acc = if small {
-                    bond_force_small(pos, reference, bonds, w, i)
-                } else {
-                    bond_force(pos, bonds, w, i)
-                };
-                *f = acc + load[i];
-            }
-        });
+    pair_forces(
+        &pd.pairs,
+        pos,
+        kinematics,
+        &mut pd.force_buffers,
+        &mut pd.force,
+        |i, f, out| *out = f + load[i],
+    );
     pd.contact_force.iter_mut().for_each(|f| *f = Vec3::zeros());
     pd.contact_stiffness.iter_mut().for_each(|k| *k = 0.0);
-}
-
-/// The bond force on particle `i` (Eq. 26 times the volumes, finite kinematics):
-/// `Σ_j w_ij (|y_ij| − L_ij) y_ij/|y_ij|` with `y_ij = pos[j] − pos[i]` and `w` the bond weights
-/// `c G v_c V_i V_j / L` of [`PdBody::bond_weight`]. The one kernel that both the solvers and
-/// `pdcontact bench` run.
-///
-/// Weights and lengths are stored in single precision (12 bytes a bond with the partner index),
-/// the arithmetic is double. On x86-64 processors with AVX2 and FMA (checked once, at run time)
-/// the same code runs compiled for them: the square roots and divisions that bound the loop then
-/// go four to an instruction instead of two.
-#[inline]
-pub fn bond_force(pos: &[Vec3], bonds: &BondList, w: &[f32], i: usize) -> Vec3 {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if has_avx2_fma() {
-            // SAFETY: the processor supports the features `bond_force_avx2` is compiled for.
-            return unsafe { bond_force_avx2(pos, bonds, w, i) };
-        }
-    }
-    bond_force_portable(pos, bonds, w, i)
-}
-
-/// The bond force on particle `i` with the bond kinematics linearised (Eq. 26 with the
-/// extension measured along the reference bond ξ): `Σ_j w_ij ((η_ij·ξ_ij)/|ξ_ij|²) ξ_ij`, where
-/// `η_ij = u_j − u_i` from the current and reference positions. Dispatched as [`bond_force`].
-#[inline]
-pub fn bond_force_small(
-    pos: &[Vec3],
-    reference: &[Vec3],
-    bonds: &BondList,
-    w: &[f32],
-    i: usize,
-) -> Vec3 {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if has_avx2_fma() {
-            // SAFETY: the processor supports the features the function is compiled for.
-            return unsafe { bond_force_small_avx2(pos, reference, bonds, w, i) };
-        }
-    }
-    let ui = pos[i] - reference[i];
-    let mut acc = Vec3::zeros();
-    for b in bonds.range(i) {
-        let j = bonds.partner[b] as usize;
-        let xi = reference[j] - reference[i];
-        let eta = pos[j] - reference[j] - ui;
-        acc += xi * (f64::from(w[b]) * eta.dot(&xi) / xi.norm_squared());
-    }
-    acc
-}
-
-/// [`bond_force_small`] in AVX2/FMA intrinsics, four bonds per step (see [`bond_force_avx2`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn bond_force_small_avx2(
-    pos: &[Vec3],
-    reference: &[Vec3],
-    bonds: &BondList,
-    w: &[f32],
-    i: usize,
-) -> Vec3 {
-    use std::arch::x86_64::*;
-    let range = bonds.range(i);
-    let partner = &bonds.partner[range.clone()];
-    let w = &w[range];
-    let (xi0, ui) = (reference[i], pos[i] - reference[i]);
-    let (rx, ry, rz) = (
-        _mm256_set1_pd(xi0.x),
-        _mm256_set1_pd(xi0.y),
-        _mm256_set1_pd(xi0.z),
-    );
-    let (ux, uy, uz) = (
-        _mm256_set1_pd(ui.x),
-        _mm256_set1_pd(ui.y),
-        _mm256_set1_pd(ui.z),
-    );
-    let (mut ax, mut ay, mut az) = (
-        _mm256_setzero_pd(),
-        _mm256_setzero_pd(),
-        _mm256_setzero_pd(),
-    );
-    // Indexing checks each partner against the arrays' lengths.
-    let lanes = |v: &[Vec3], k: usize| -> [__m256d; 3] {
-        let p: [*const f64; 4] =
-            std::array::from_fn(|m| (&v[partner[k + m] as usize] as *const Vec3).cast::<f64>());
-        let a = _mm256_insertf128_pd::<1>(
-            _mm256_castpd128_pd256(_mm_loadu_pd(p[0])),
-            _mm_loadu_pd(p[2]),
-        );
-        let b = _mm256_insertf128_pd::<1>(
-            _mm256_castpd128_pd256(_mm_loadu_pd(p[1])),
-            _mm_loadu_pd(p[3]),
-        );
-        [
-            _mm256_unpacklo_pd(a, b),
-            _mm256_unpackhi_pd(a, b),
-            _mm256_set_pd(*p[3].add(2), *p[2].add(2), *p[1].add(2), *p[0].add(2)),
-        ]
-    };
-    let groups = partner.len() / 4;
-    for g in 0..groups {
-        let k = 4 * g;
-        let [px, py, pz] = lanes(pos, k);
-        let [qx, qy, qz] = lanes(reference, k);
-        // ξ = X_j − X_i; η = (y_j − X_j) − u_i.
-        let (sx, sy, sz) = (
-            _mm256_sub_pd(qx, rx),
-            _mm256_sub_pd(qy, ry),
-            _mm256_sub_pd(qz, rz),
-        );
-        let (ex, ey, ez) = (
-            _mm256_sub_pd(_mm256_sub_pd(px, qx), ux),
-            _mm256_sub_pd(_mm256_sub_pd(py, qy), uy),
-            _mm256_sub_pd(_mm256_sub_pd(pz, qz), uz),
-        );
-        let dot = _mm256_fmadd_pd(ez, sz, _mm256_fmadd_pd(ey, sy, _mm256_mul_pd(ex, sx)));
-        let len2 = _mm256_fmadd_pd(sz, sz, _mm256_fmadd_pd(sy, sy, _mm256_mul_pd(sx, sx)));
-        let wb = _mm256_cvtps_pd(_mm_loadu_ps(w[k..k + 4].as_ptr()));
-        let s = _mm256_div_pd(_mm256_mul_pd(wb, dot), len2);
-        ax = _mm256_fmadd_pd(sx, s, ax);
-        ay = _mm256_fmadd_pd(sy, s, ay);
-        az = _mm256_fmadd_pd(sz, s, az);
-    }
-    let sum = |v: __m256d| -> f64 {
-        let mut l = [0.0f64; 4];
-        _mm256_storeu_pd(l.as_mut_ptr(), v);
-        (l[0] + l[1]) + (l[2] + l[3])
-    };
-    let mut acc = Vec3::new(sum(ax), sum(ay), sum(az));
-    for k in 4 * groups..partner.len() {
-        let j = partner[k] as usize;
-        let xi = reference[j] - xi0;
-        let eta = pos[j] - reference[j] - ui;
-        acc += xi * (f64::from(w[k]) * eta.dot(&xi) / xi.norm_squared());
-    }
-    acc
-}
-
-/// Whether the processor has AVX2 and FMA (the standard library caches the answer).
-#[cfg(target_arch = "x86_64")]
-#[inline]
-fn has_avx2_fma() -> bool {
-    std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-}
-
-/// [`bond_force`] in AVX2/FMA intrinsics: four bonds per step; the partners' coordinates are
-/// loaded as (x, y) pairs and z and transposed into lanes; `1/|y|` comes from the
-/// single-precision estimate refined by two Newton steps (relative error about 1e-13), which
-/// keeps the square root and the division off the divider unit that bounds the plain loop.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn bond_force_avx2(pos: &[Vec3], bonds: &BondList, w: &[f32], i: usize) -> Vec3 {
-    use std::arch::x86_64::*;
-    let range = bonds.range(i);
-    let partner = &bonds.partner[range.clone()];
-    let length = &bonds.length[range.clone()];
-    let w = &w[range];
-    let yi = pos[i];
-    let (cx, cy, cz) = (
-        _mm256_set1_pd(yi.x),
-        _mm256_set1_pd(yi.y),
-        _mm256_set1_pd(yi.z),
-    );
-    let one = _mm256_set1_pd(1.0);
-    let three_halves = _mm256_set1_pd(1.5);
-    let half = _mm256_set1_pd(0.5);
-    let (mut ax, mut ay, mut az) = (
-        _mm256_setzero_pd(),
-        _mm256_setzero_pd(),
-        _mm256_setzero_pd(),
-    );
-    // Indexing `pos` checks each partner against its length: a bad list panics, never reads
-    // outside the array. A `Vec3` is three contiguous f64.
-    let coords = |j: u32| -> *const f64 { (&pos[j as usize] as *const Vec3).cast::<f64>() };
-    let groups = partner.len() / 4;
-    for g in 0..groups {
-        let k = 4 * g;
-        let (p0, p1, p2, p3) = (
-            coords(partner[k]),
-            coords(partner[k + 1]),
-            coords(partner[k + 2]),
-            coords(partner[k + 3]),
-        );
-        let a =
-            _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(_mm_loadu_pd(p0)), _mm_loadu_pd(p2));
-        let b =
-            _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(_mm_loadu_pd(p1)), _mm_loadu_pd(p3));
-        let dx = _mm256_sub_pd(_mm256_unpacklo_pd(a, b), cx);
-        let dy = _mm256_sub_pd(_mm256_unpackhi_pd(a, b), cy);
-        let dz = _mm256_sub_pd(
-            _mm256_set_pd(*p3.add(2), *p2.add(2), *p1.add(2), *p0.add(2)),
-            cz,
-        );
-        let r2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
-        let mut inv = _mm256_cvtps_pd(_mm_rsqrt_ps(_mm256_cvtpd_ps(r2)));
-        let h = _mm256_mul_pd(half, r2);
-        for _ in 0..2 {
-            let t = _mm256_mul_pd(inv, inv);
-            inv = _mm256_mul_pd(inv, _mm256_fnmadd_pd(h, t, three_halves));
-        }
-        let l0 = _mm256_cvtps_pd(_mm_loadu_ps(length[k..k + 4].as_ptr()));
-        let wb = _mm256_cvtps_pd(_mm_loadu_ps(w[k..k + 4].as_ptr()));
-        // w (|y| − L)/|y| = w (1 − L/|y|)
-        let s = _mm256_mul_pd(wb, _mm256_fnmadd_pd(l0, inv, one));
-        ax = _mm256_fmadd_pd(dx, s, ax);
-        ay = _mm256_fmadd_pd(dy, s, ay);
-        az = _mm256_fmadd_pd(dz, s, az);
-    }
-    let sum = |v: __m256d| -> f64 {
-        let mut lanes = [0.0f64; 4];
-        _mm256_storeu_pd(lanes.as_mut_ptr(), v);
-        (lanes[0] + lanes[1]) + (lanes[2] + lanes[3])
-    };
-    let mut f = Vec3::new(sum(ax), sum(ay), sum(az));
-    for k in 4 * groups..partner.len() {
-        let y = pos[partner[k] as usize] - yi;
-        let l = y.norm();
-        f += y * (f64::from(w[k]) * (l - f64::from(length[k])) / l);
-    }
-    f
-}
-
-#[inline(always)]
-fn bond_force_portable(pos: &[Vec3], bonds: &BondList, w: &[f32], i: usize) -> Vec3 {
-    // Bonds go in groups of LANES with the partners gathered into plain arrays, so that the
-    // square roots and divisions run as packed SIMD instructions.
-    const LANES: usize = 4;
-    let yi = pos[i];
-    let range = bonds.range(i);
-    let partner = &bonds.partner[range.clone()];
-    let length = &bonds.length[range.clone()];
-    let w = &w[range];
-    let mut acc = [[0.0f64; LANES]; 3];
-    let groups = partner
-        .chunks_exact(LANES)
-        .zip(length.chunks_exact(LANES))
-        .zip(w.chunks_exact(LANES));
-    for ((p, l0), wb) in groups {
-        let mut d = [[0.0f64; LANES]; 3];
-        for k in 0..LANES {
-            let y = pos[p[k] as usize] - yi;
-            d[0][k] = y.x;
-            d[1][k] = y.y;
-            d[2][k] = y.z;
-        }
-        for k in 0..LANES {
-            let l = (d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k]).sqrt();
-            let s = f64::from(wb[k]) * (l - f64::from(l0[k])) / l;
-            for a in 0..3 {
-                acc[a][k] += d[a][k] * s;
-            }
-        }
-    }
-    let mut f = Vec3::new(
-        acc[0].iter().sum(),
-        acc[1].iter().sum(),
-        acc[2].iter().sum(),
-    );
-    let tail = partner.len() - partner.len() % LANES;
-    for ((&j, &l0), &wb) in partner[tail..].iter().zip(&length[tail..]).zip(&w[tail..]) {
-        let y = pos[j as usize] - yi;
-        let l = y.norm();
-        f += y * (f64::from(wb) * (l - f64::from(l0)) / l);
-    }
-    f
 }
 
 /// Particles of a named set of a body's mesh (its corner nodes that are particles).

@@ -202,12 +202,27 @@ const BLOCK: usize = 512;
 /// that the peak memory is the bond list itself and not twice it (the list dominates the
 /// memory of a run).
 pub fn build_bonds_from(points: &[Vec3], queries: usize, radius: f64) -> BondList {
+    build(points, queries, radius, false)
+}
+
+/// Each pair `i < j` with `|x_j − x_i| ≤ radius` once, on its lower index (the half list of
+/// [`crate::pairs`]).
+pub fn build_pairs(points: &[Vec3], radius: f64) -> BondList {
+    build(points, points.len(), radius, true)
+}
+
+fn build(points: &[Vec3], queries: usize, radius: f64, half: bool) -> BondList {
     // Cells of half the radius: the 5×5×5 block around a point holds about half the candidates
     // of the 3×3×3 block of cells of side `radius`.
     let grid = CellGrid::new(points, 0.5 * radius);
     let r2 = radius * radius;
-    let within =
-        |i: usize, j: u32| j as usize != i && (points[j as usize] - points[i]).norm_squared() <= r2;
+    let within = |i: usize, j: u32| {
+        (if half {
+            j as usize > i
+        } else {
+            j as usize != i
+        }) && (points[j as usize] - points[i]).norm_squared() <= r2
+    };
     let counts: Vec<usize> = (0..queries)
         .into_par_iter()
         .map(|i| {
