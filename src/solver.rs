@@ -116,6 +116,7 @@ fn bond_density(model: &Model) -> Vec<Vec<f64>> {
                     .extend_positions(&pd.case.particles.position, &mut x);
                 let bonds = &pd.case.bonds;
                 (0..pd.len())
+                    .into_par_iter()
                     .map(|i| {
                         let mut row = [0.0f64; 3];
                         for b in bonds.range(i) {
@@ -151,34 +152,38 @@ fn applied_norm(model: &Model) -> f64 {
     s.sqrt()
 }
 
-/// `‖R‖₂` over free degrees of freedom, and the net out-of-balance force vector.
-fn residual(model: &Model) -> (f64, Vec3) {
-    let mut s = 0.0;
-    let mut net = Vec3::zeros();
-    for b in &model.bodies {
-        match b {
-            Body::Deformable(pd) => {
-                let (s2, n2) = pd
-                    .force
-                    .par_iter()
-                    .zip(&pd.fixed)
-                    .map(|(f, &m)| {
-                        let r = f.component_mul(&free_factor(m));
-                        (r.norm_squared(), r)
-                    })
-                    .reduce(|| (0.0, Vec3::zeros()), |a, b| (a.0 + b.0, a.1 + b.1));
-                s += s2;
-                net += n2;
-            }
-            Body::Rigid(rb) if rb.motion == Motion::Free => {
-                let r = (rb.load + rb.contact_force).dot(&rb.axis);
-                s += r * r;
-                net += rb.axis * r;
-            }
-            Body::Rigid(_) => {}
+/// What ADR's per-iteration pass sums over the particles.
+#[derive(Clone, Copy, Debug)]
+struct AdrSums {
+    /// Every displacement and force component finite.
+    finite: bool,
+    /// `‖R‖₂²` over free degrees of freedom.
+    residual: f64,
+    /// Numerator and denominator of the damping's Rayleigh quotient (Eq. 33).
+    num: f64,
+    den: f64,
+}
+
+impl Default for AdrSums {
+    fn default() -> AdrSums {
+        AdrSums {
+            finite: true,
+            residual: 0.0,
+            num: 0.0,
+            den: 0.0,
         }
     }
-    (s.sqrt(), net)
+}
+
+impl AdrSums {
+    fn add(self, o: AdrSums) -> AdrSums {
+        AdrSums {
+            finite: self.finite && o.finite,
+            residual: self.residual + o.residual,
+            num: self.num + o.num,
+            den: self.den + o.den,
+        }
+    }
 }
 
 fn check_finite(model: &Model, step: usize, what: &str) -> Result<()> {
@@ -278,22 +283,16 @@ pub fn adr(
     let nb = model.bodies.len();
     let mut prev_f: Vec<Vec<Vec3>> = vec![Vec::new(); nb];
     let mut prev_rf = vec![0.0f64; nb];
-    let mut lambda: Vec<Vec<f64>> = vec![Vec::new(); nb];
     let mut rigid_lambda = vec![0.0f64; nb];
+    // The fictitious density of a particle: its bonds' plus its current contact stiffness.
+    // Computed where it is used, in the passes below, rather than stored.
+    let lambda_of = |density: &[f64], pd: &crate::body::PdBody, i: usize| -> f64 {
+        density[i] + CONTACT_ROW * pd.contact_stiffness[i]
+    };
 
-    let update_lambda = |model: &Model, lambda: &mut Vec<Vec<f64>>, rigid_lambda: &mut Vec<f64>| {
+    let update_lambda = |model: &Model, rigid_lambda: &mut Vec<f64>| {
         for (k, b) in model.bodies.iter().enumerate() {
             match b {
-                Body::Deformable(pd) => {
-                    // In place: no allocation inside the iteration loop.
-                    lambda[k].resize(pd.len(), 0.0);
-                    lambda[k]
-                        .par_iter_mut()
-                        .zip(&density[k])
-                        .zip(&pd.contact_stiffness)
-                        .with_min_len(1024)
-                        .for_each(|((l, d), kc)| *l = d + CONTACT_ROW * kc);
-                }
                 Body::Rigid(rb) if rb.motion == Motion::Free => {
                     // Before contact the free body has no stiffness: give it the density of
                     // full contact so that it does not jump.
@@ -305,11 +304,11 @@ pub fn adr(
                         .sum();
                     rigid_lambda[k] = rb.contact_stiffness.max(0.05 * all).max(f64::MIN_POSITIVE);
                 }
-                Body::Rigid(_) => {}
+                Body::Rigid(_) | Body::Deformable(_) => {}
             }
         }
     };
-    update_lambda(model, &mut lambda, &mut rigid_lambda);
+    update_lambda(model, &mut rigid_lambda);
 
     // Eq. 30: v^{1/2} = F⁰/(2λ); then u¹ = u⁰ + v^{1/2}.
     for (k, b) in model.bodies.iter_mut().enumerate() {
@@ -317,7 +316,8 @@ pub fn adr(
             Body::Deformable(pd) => {
                 for i in 0..pd.len() {
                     let ff = free_factor(pd.fixed[i]);
-                    pd.v[i] = pd.force[i].component_mul(&ff) / (2.0 * lambda[k][i]);
+                    pd.v[i] =
+                        pd.force[i].component_mul(&ff) / (2.0 * lambda_of(&density[k], pd, i));
                     pd.u[i] += pd.v[i];
                 }
                 prev_f[k] = pd.force.clone();
@@ -337,9 +337,62 @@ pub fn adr(
     loop {
         n += 1;
         model.compute_forces();
-        check_finite(model, n, "iteration")?;
+        update_lambda(model, &mut rigid_lambda);
+        // One pass over each body's particles for the finiteness check, the residual and the
+        // damping's Rayleigh quotient (Eqs. 32-33): the bookkeeping of an iteration is then
+        // this pass and the update below, next to the force pass.
+        let mut sum = AdrSums::default();
+        for (k, b) in model.bodies.iter().enumerate() {
+            match b {
+                Body::Deformable(pd) => {
+                    let (dens, prev) = (&density[k], &prev_f[k]);
+                    let body = (0..pd.len())
+                        .into_par_iter()
+                        .with_min_len(1024)
+                        .map(|i| {
+                            let ff = free_factor(pd.fixed[i]);
+                            let (u, v, f) = (pd.u[i], pd.v[i], pd.force[i]);
+                            let mut s = AdrSums {
+                                finite: u.iter().chain(f.iter()).all(|c| c.is_finite()),
+                                residual: f.component_mul(&ff).norm_squared(),
+                                ..AdrSums::default()
+                            };
+                            let lam = lambda_of(dens, pd, i);
+                            for a in 0..3 {
+                                if ff[a] == 0.0 {
+                                    continue;
+                                }
+                                if v[a] != 0.0 {
+                                    let k1 = -(f[a] - prev[i][a]) / (lam * v[a]);
+                                    s.num += u[a] * k1 * u[a];
+                                }
+                                s.den += u[a] * u[a];
+                            }
+                            s
+                        })
+                        .reduce(AdrSums::default, AdrSums::add);
+                    if !body.finite {
+                        return Err(Error::numerical(format!(
+                            "non-finite displacement or force in body \"{}\" at iteration {n}: ADR diverged (likely cause: a penalty stiffness far above the bond stiffness, or a load that pushes a body through a surface)",
+                            pd.name
+                        )));
+                    }
+                    sum = sum.add(body);
+                }
+                Body::Rigid(rb) if rb.motion == Motion::Free => {
+                    let f = (rb.load + rb.contact_force).dot(&rb.axis);
+                    let z = rb.translation.dot(&rb.axis);
+                    sum.residual += f * f;
+                    if rb.axial_speed != 0.0 {
+                        sum.num += z * z * (-(f - prev_rf[k]) / (rigid_lambda[k] * rb.axial_speed));
+                    }
+                    sum.den += z * z;
+                }
+                Body::Rigid(_) => {}
+            }
+        }
         check_missed(model, n, "iteration", None)?;
-        let (r, _) = residual(model);
+        let r = sum.residual.sqrt();
         let rel = r / reference;
         stats.residual = rel;
         stats.iterations = n;
@@ -360,50 +413,7 @@ pub fn adr(
             stats.interrupted = true;
             break;
         }
-        update_lambda(model, &mut lambda, &mut rigid_lambda);
-
-        // Damping from the lowest mode (Eqs. 32-33).
-        let mut num = 0.0;
-        let mut den = 0.0;
-        for (k, b) in model.bodies.iter().enumerate() {
-            match b {
-                Body::Deformable(pd) => {
-                    let (lam, prev) = (&lambda[k], &prev_f[k]);
-                    let (nb, db) = (0..pd.len())
-                        .into_par_iter()
-                        .with_min_len(1024)
-                        .map(|i| {
-                            let ff = free_factor(pd.fixed[i]);
-                            let (mut num, mut den) = (0.0, 0.0);
-                            for a in 0..3 {
-                                if ff[a] == 0.0 {
-                                    continue;
-                                }
-                                let u = pd.u[i][a];
-                                let v = pd.v[i][a];
-                                if v != 0.0 {
-                                    let k1 = -(pd.force[i][a] - prev[i][a]) / (lam[i] * v);
-                                    num += u * k1 * u;
-                                }
-                                den += u * u;
-                            }
-                            (num, den)
-                        })
-                        .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
-                    num += nb;
-                    den += db;
-                }
-                Body::Rigid(rb) if rb.motion == Motion::Free => {
-                    let f = (rb.load + rb.contact_force).dot(&rb.axis);
-                    let z = rb.translation.dot(&rb.axis);
-                    if rb.axial_speed != 0.0 {
-                        num += z * z * (-(f - prev_rf[k]) / (rigid_lambda[k] * rb.axial_speed));
-                    }
-                    den += z * z;
-                }
-                Body::Rigid(_) => {}
-            }
-        }
+        let (num, den) = (sum.num, sum.den);
         let c = if den > 0.0 && num > 0.0 {
             (2.0 * (num / den).sqrt()).min(1.9)
         } else {
@@ -413,8 +423,9 @@ pub fn adr(
         for (k, b) in model.bodies.iter_mut().enumerate() {
             match b {
                 Body::Deformable(pd) => {
-                    let lam = &lambda[k];
+                    let dens = &density[k];
                     let pd = &mut **pd;
+                    let kc = &pd.contact_stiffness;
                     pd.v.par_iter_mut()
                         .zip(pd.u.par_iter_mut())
                         .zip(prev_f[k].par_iter_mut())
@@ -423,8 +434,9 @@ pub fn adr(
                         .for_each(|(i, ((v, u), prev))| {
                             let ff = free_factor(pd.fixed[i]);
                             let f = pd.force[i];
-                            *v = ((*v * (2.0 - c) + f * (2.0 / lam[i])) / (2.0 + c))
-                                .component_mul(&ff);
+                            let lam = dens[i] + CONTACT_ROW * kc[i];
+                            *v =
+                                ((*v * (2.0 - c) + f * (2.0 / lam)) / (2.0 + c)).component_mul(&ff);
                             *u += *v;
                             *prev = f;
                         });

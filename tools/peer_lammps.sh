@@ -7,7 +7,7 @@
 #
 # Installs Debian's lammps package if no LAMMPS binary is found (needs root or sudo), builds
 # pdcontact in release mode, runs each of: LAMMPS on 1 rank, LAMMPS on 2 MPI ranks (when mpirun
-# is installed), pdcontact bench with 1 and 2 threads, RUNS times, and prints the median loop
+# is installed), pdcontact bench with 1 and 2 threads (alternating), RUNS times, and prints the median loop
 # times, the throughputs (directed bonds x steps / loop seconds) and their ratios. Fails when
 # the particle or partner counts of the two programs differ.
 set -euo pipefail
@@ -112,13 +112,32 @@ measure() {
     LOOP[$key]=$(printf '%s\n' "${times[@]}" | median)
 }
 
+declare -A ALL
+# As `measure`, one run, its loop time appended to ALL[key].
+measure_append() {
+    local key=$1; shift
+    local line
+    line=$("$@")
+    echo "  $key: $line" >&2
+    ALL[$key]="${ALL[$key]:-} $(echo "$line" | cut -d' ' -f1)"
+    COUNT[$key]=$(echo "$line" | cut -d' ' -f2)
+    PARTNERS[$key]=$(echo "$line" | cut -d' ' -f3)
+    DRIFT[$key]=$(echo "$line" | cut -d' ' -f4)
+}
+
 measure lammps_1 lammps_once "$LMP"
 echo "LAMMPS: $LMP, $(cat "$WORK/version")" >&2
 if [ -n "$MPIRUN" ]; then
     measure lammps_2 lammps_once "$MPIRUN" --allow-run-as-root --oversubscribe -np 2 "$LMP"
 fi
-measure pd_1 pd_once 1
-measure pd_2 pd_once 2
+# One and two threads alternate, so that a slow spell of a shared machine weighs on both alike.
+for _ in $(seq "$RUNS"); do
+    RUNS=1 measure_append pd_1 pd_once 1
+    RUNS=1 measure_append pd_2 pd_once 2
+done
+for key in pd_1 pd_2; do
+    LOOP[$key]=$(echo "${ALL[$key]}" | tr ' ' '\n' | grep -v '^$' | median)
+done
 
 status=0
 if [ "${COUNT[lammps_1]}" != "${COUNT[pd_1]}" ]; then
