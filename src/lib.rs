@@ -8,6 +8,7 @@
 //! | built-in hex8 shapes | [`generators`] |
 //! | particles, volumes, spacing | [`discretize`] |
 //! | cell lists, bond families | [`neighbours`] |
+//! | the bond-force pass, each pair once | [`pairs`] |
 //! | volume and surface correction | [`correction`] |
 //! | eigenvalue surface detection | [`surface`] |
 //! | master segments, tributary areas | [`segments`] |

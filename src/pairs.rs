@@ -258,8 +258,8 @@ pub fn pair_forces<T: Send>(
             buf.resize(n, Vec3::zeros());
             for i in range.clone() {
                 let f = match kinematics {
-                    PairKinematics::Finite => pair_force_finite(list, pos, i, buf),
-                    PairKinematics::Small(x) => pair_force_small(list, pos, x, i, buf),
+                    PairKinematics::Finite => pair_force(list, pos, None, i, buf),
+                    PairKinematics::Small(x) => pair_force(list, pos, Some(x), i, buf),
                 };
                 buf[i] += f;
             }
@@ -290,340 +290,82 @@ fn image_force(list: &PairList, pos: &[Vec3], i: usize, reference: Option<&[Vec3
     if list.images.range(i).is_empty() {
         return Vec3::zeros();
     }
+    let (bonds, w) = (&list.images, &list.image_weight[..]);
     match reference {
-        None => directed_force(pos, &list.images, &list.image_weight, i),
-        Some(x) => directed_force_small(pos, x, &list.images, &list.image_weight, i),
+        None => bond_sum::<false>(bonds, w, pos, None, i, &mut []),
+        Some(x) => bond_sum::<false>(bonds, w, pos, Some(x), i, &mut []),
     }
 }
 
-/// The force of directed bonds (here: those to mirror images) on particle `i`, finite
-/// kinematics: `Σ_j w_ij (|y_ij| − L_ij) y_ij/|y_ij|` with `y_ij = pos[j] − pos[i]`. AVX2/FMA
-/// where the processor has them, as the pair kernels.
+/// Particle `i`'s pairs: returns the force on `i` and subtracts each pair's force from
+/// `buf[j]` (finite kinematics without `reference`, linearised with it).
 #[inline]
-fn directed_force(pos: &[Vec3], bonds: &BondList, w: &[f32], i: usize) -> Vec3 {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if has_avx2_fma() {
-            // SAFETY: the processor supports the features `directed_force_avx2` is compiled for.
-            return unsafe { directed_force_avx2(pos, bonds, w, i) };
-        }
-    }
-    directed_force_portable(pos, bonds, w, i)
-}
-
-/// The bond force on particle `i` with the bond kinematics linearised (Eq. 26 with the
-/// extension measured along the reference bond ξ): `Σ_j w_ij ((η_ij·ξ_ij)/|ξ_ij|²) ξ_ij`, where
-/// `η_ij = u_j − u_i` from the current and reference positions. Dispatched as [`directed_force`].
-#[inline]
-fn directed_force_small(
+fn pair_force(
+    list: &PairList,
     pos: &[Vec3],
-    reference: &[Vec3],
+    reference: Option<&[Vec3]>,
+    i: usize,
+    buf: &mut [Vec3],
+) -> Vec3 {
+    bond_sum::<true>(&list.pairs, &list.pair_weight, pos, reference, i, buf)
+}
+
+/// The force of particle `i`'s bonds in `bonds` (weights `w`) on `i`: with finite kinematics
+/// (`reference` is `None`) `Σ_j w_ij (|y_ij| − L_ij) y_ij/|y_ij|`, `y_ij = pos[j] − pos[i]`
+/// (Eq. 26 times the volumes); linearised, `Σ_j w_ij ((η_ij·ξ_ij)/|ξ_ij|²) ξ_ij` with
+/// `ξ_ij = X_j − X_i` and `η_ij = u_j − u_i` from `reference`. With `SCATTER`, each bond's
+/// force is also subtracted from `buf[j]` (the pairs); without, `buf` is not touched (the
+/// directed bonds to mirror images). AVX2/FMA where the processor has them.
+#[inline]
+fn bond_sum<const SCATTER: bool>(
     bonds: &BondList,
     w: &[f32],
+    pos: &[Vec3],
+    reference: Option<&[Vec3]>,
     i: usize,
+    buf: &mut [Vec3],
 ) -> Vec3 {
     #[cfg(target_arch = "x86_64")]
     {
         if has_avx2_fma() {
-            // SAFETY: the processor supports the features the function is compiled for.
-            return unsafe { directed_force_small_avx2(pos, reference, bonds, w, i) };
+            // SAFETY: the processor has the features; every access is bounds-checked.
+            return unsafe { bond_sum_avx2::<SCATTER>(bonds, w, pos, reference, i, buf) };
         }
     }
-    let ui = pos[i] - reference[i];
+    bond_sum_portable::<SCATTER>(bonds, w, pos, reference, i, buf, bonds.range(i))
+}
+
+/// [`bond_sum`] over the bonds `range`, one at a time.
+#[inline(always)]
+fn bond_sum_portable<const SCATTER: bool>(
+    bonds: &BondList,
+    w: &[f32],
+    pos: &[Vec3],
+    reference: Option<&[Vec3]>,
+    i: usize,
+    buf: &mut [Vec3],
+    range: std::ops::Range<usize>,
+) -> Vec3 {
     let mut acc = Vec3::zeros();
-    for b in bonds.range(i) {
+    for b in range {
         let j = bonds.partner[b] as usize;
-        let xi = reference[j] - reference[i];
-        let eta = pos[j] - reference[j] - ui;
-        acc += xi * (f64::from(w[b]) * eta.dot(&xi) / xi.norm_squared());
-    }
-    acc
-}
-
-/// [`directed_force_small`] in AVX2/FMA intrinsics, four bonds per step (see [`directed_force_avx2`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn directed_force_small_avx2(
-    pos: &[Vec3],
-    reference: &[Vec3],
-    bonds: &BondList,
-    w: &[f32],
-    i: usize,
-) -> Vec3 {
-    use std::arch::x86_64::*;
-    let range = bonds.range(i);
-    let partner = &bonds.partner[range.clone()];
-    let w = &w[range];
-    let (xi0, ui) = (reference[i], pos[i] - reference[i]);
-    let (rx, ry, rz) = (
-        _mm256_set1_pd(xi0.x),
-        _mm256_set1_pd(xi0.y),
-        _mm256_set1_pd(xi0.z),
-    );
-    let (ux, uy, uz) = (
-        _mm256_set1_pd(ui.x),
-        _mm256_set1_pd(ui.y),
-        _mm256_set1_pd(ui.z),
-    );
-    let (mut ax, mut ay, mut az) = (
-        _mm256_setzero_pd(),
-        _mm256_setzero_pd(),
-        _mm256_setzero_pd(),
-    );
-    // Indexing checks each partner against the arrays' lengths.
-    let lanes = |v: &[Vec3], k: usize| -> [__m256d; 3] {
-        let p: [*const f64; 4] =
-            std::array::from_fn(|m| (&v[partner[k + m] as usize] as *const Vec3).cast::<f64>());
-        let a = _mm256_insertf128_pd::<1>(
-            _mm256_castpd128_pd256(_mm_loadu_pd(p[0])),
-            _mm_loadu_pd(p[2]),
-        );
-        let b = _mm256_insertf128_pd::<1>(
-            _mm256_castpd128_pd256(_mm_loadu_pd(p[1])),
-            _mm_loadu_pd(p[3]),
-        );
-        [
-            _mm256_unpacklo_pd(a, b),
-            _mm256_unpackhi_pd(a, b),
-            _mm256_set_pd(*p[3].add(2), *p[2].add(2), *p[1].add(2), *p[0].add(2)),
-        ]
-    };
-    let groups = partner.len() / 4;
-    for g in 0..groups {
-        let k = 4 * g;
-        let [px, py, pz] = lanes(pos, k);
-        let [qx, qy, qz] = lanes(reference, k);
-        // ξ = X_j − X_i; η = (y_j − X_j) − u_i.
-        let (sx, sy, sz) = (
-            _mm256_sub_pd(qx, rx),
-            _mm256_sub_pd(qy, ry),
-            _mm256_sub_pd(qz, rz),
-        );
-        let (ex, ey, ez) = (
-            _mm256_sub_pd(_mm256_sub_pd(px, qx), ux),
-            _mm256_sub_pd(_mm256_sub_pd(py, qy), uy),
-            _mm256_sub_pd(_mm256_sub_pd(pz, qz), uz),
-        );
-        let dot = _mm256_fmadd_pd(ez, sz, _mm256_fmadd_pd(ey, sy, _mm256_mul_pd(ex, sx)));
-        let len2 = _mm256_fmadd_pd(sz, sz, _mm256_fmadd_pd(sy, sy, _mm256_mul_pd(sx, sx)));
-        let wb = _mm256_cvtps_pd(_mm_loadu_ps(w[k..k + 4].as_ptr()));
-        let s = _mm256_div_pd(_mm256_mul_pd(wb, dot), len2);
-        ax = _mm256_fmadd_pd(sx, s, ax);
-        ay = _mm256_fmadd_pd(sy, s, ay);
-        az = _mm256_fmadd_pd(sz, s, az);
-    }
-    let sum = |v: __m256d| -> f64 {
-        let mut l = [0.0f64; 4];
-        _mm256_storeu_pd(l.as_mut_ptr(), v);
-        (l[0] + l[1]) + (l[2] + l[3])
-    };
-    let mut acc = Vec3::new(sum(ax), sum(ay), sum(az));
-    for k in 4 * groups..partner.len() {
-        let j = partner[k] as usize;
-        let xi = reference[j] - xi0;
-        let eta = pos[j] - reference[j] - ui;
-        acc += xi * (f64::from(w[k]) * eta.dot(&xi) / xi.norm_squared());
-    }
-    acc
-}
-
-/// [`directed_force`] in AVX2/FMA intrinsics: four bonds per step; the partners' coordinates are
-/// loaded as (x, y) pairs and z and transposed into lanes; `1/|y|` comes from the
-/// single-precision estimate refined by two Newton steps (relative error about 1e-13), which
-/// keeps the square root and the division off the divider unit that bounds the plain loop.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn directed_force_avx2(pos: &[Vec3], bonds: &BondList, w: &[f32], i: usize) -> Vec3 {
-    use std::arch::x86_64::*;
-    let range = bonds.range(i);
-    let partner = &bonds.partner[range.clone()];
-    let length = &bonds.length[range.clone()];
-    let w = &w[range];
-    let yi = pos[i];
-    let (cx, cy, cz) = (
-        _mm256_set1_pd(yi.x),
-        _mm256_set1_pd(yi.y),
-        _mm256_set1_pd(yi.z),
-    );
-    let one = _mm256_set1_pd(1.0);
-    let three_halves = _mm256_set1_pd(1.5);
-    let half = _mm256_set1_pd(0.5);
-    let (mut ax, mut ay, mut az) = (
-        _mm256_setzero_pd(),
-        _mm256_setzero_pd(),
-        _mm256_setzero_pd(),
-    );
-    // Indexing `pos` checks each partner against its length: a bad list panics, never reads
-    // outside the array. A `Vec3` is three contiguous f64.
-    let coords = |j: u32| -> *const f64 { (&pos[j as usize] as *const Vec3).cast::<f64>() };
-    let groups = partner.len() / 4;
-    for g in 0..groups {
-        let k = 4 * g;
-        let (p0, p1, p2, p3) = (
-            coords(partner[k]),
-            coords(partner[k + 1]),
-            coords(partner[k + 2]),
-            coords(partner[k + 3]),
-        );
-        let a =
-            _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(_mm_loadu_pd(p0)), _mm_loadu_pd(p2));
-        let b =
-            _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(_mm_loadu_pd(p1)), _mm_loadu_pd(p3));
-        let dx = _mm256_sub_pd(_mm256_unpacklo_pd(a, b), cx);
-        let dy = _mm256_sub_pd(_mm256_unpackhi_pd(a, b), cy);
-        let dz = _mm256_sub_pd(
-            _mm256_set_pd(*p3.add(2), *p2.add(2), *p1.add(2), *p0.add(2)),
-            cz,
-        );
-        let r2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
-        let mut inv = _mm256_cvtps_pd(_mm_rsqrt_ps(_mm256_cvtpd_ps(r2)));
-        let h = _mm256_mul_pd(half, r2);
-        for _ in 0..2 {
-            let t = _mm256_mul_pd(inv, inv);
-            inv = _mm256_mul_pd(inv, _mm256_fnmadd_pd(h, t, three_halves));
-        }
-        let l0 = _mm256_cvtps_pd(_mm_loadu_ps(length[k..k + 4].as_ptr()));
-        let wb = _mm256_cvtps_pd(_mm_loadu_ps(w[k..k + 4].as_ptr()));
-        // w (|y| − L)/|y| = w (1 − L/|y|)
-        let s = _mm256_mul_pd(wb, _mm256_fnmadd_pd(l0, inv, one));
-        ax = _mm256_fmadd_pd(dx, s, ax);
-        ay = _mm256_fmadd_pd(dy, s, ay);
-        az = _mm256_fmadd_pd(dz, s, az);
-    }
-    let sum = |v: __m256d| -> f64 {
-        let mut lanes = [0.0f64; 4];
-        _mm256_storeu_pd(lanes.as_mut_ptr(), v);
-        (lanes[0] + lanes[1]) + (lanes[2] + lanes[3])
-    };
-    let mut f = Vec3::new(sum(ax), sum(ay), sum(az));
-    for k in 4 * groups..partner.len() {
-        let y = pos[partner[k] as usize] - yi;
-        let l = y.norm();
-        f += y * (f64::from(w[k]) * (l - f64::from(length[k])) / l);
-    }
-    f
-}
-
-#[inline(always)]
-fn directed_force_portable(pos: &[Vec3], bonds: &BondList, w: &[f32], i: usize) -> Vec3 {
-    // Bonds go in groups of LANES with the partners gathered into plain arrays, so that the
-    // square roots and divisions run as packed SIMD instructions.
-    const LANES: usize = 4;
-    let yi = pos[i];
-    let range = bonds.range(i);
-    let partner = &bonds.partner[range.clone()];
-    let length = &bonds.length[range.clone()];
-    let w = &w[range];
-    let mut acc = [[0.0f64; LANES]; 3];
-    let groups = partner
-        .chunks_exact(LANES)
-        .zip(length.chunks_exact(LANES))
-        .zip(w.chunks_exact(LANES));
-    for ((p, l0), wb) in groups {
-        let mut d = [[0.0f64; LANES]; 3];
-        for k in 0..LANES {
-            let y = pos[p[k] as usize] - yi;
-            d[0][k] = y.x;
-            d[1][k] = y.y;
-            d[2][k] = y.z;
-        }
-        for k in 0..LANES {
-            let l = (d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k]).sqrt();
-            let s = f64::from(wb[k]) * (l - f64::from(l0[k])) / l;
-            for a in 0..3 {
-                acc[a][k] += d[a][k] * s;
+        let wb = f64::from(w[b]);
+        let f = match reference {
+            None => {
+                let y = pos[j] - pos[i];
+                let l = y.norm();
+                y * (wb * (l - bonds.length(b)) / l)
             }
-        }
-    }
-    let mut f = Vec3::new(
-        acc[0].iter().sum(),
-        acc[1].iter().sum(),
-        acc[2].iter().sum(),
-    );
-    let tail = partner.len() - partner.len() % LANES;
-    for ((&j, &l0), &wb) in partner[tail..].iter().zip(&length[tail..]).zip(&w[tail..]) {
-        let y = pos[j as usize] - yi;
-        let l = y.norm();
-        f += y * (f64::from(wb) * (l - f64::from(l0)) / l);
-    }
-    f
-}
-
-/// Particle `i`'s pairs, finite kinematics: returns the force on `i` and subtracts each
-/// pair's force from `buf[j]`.
-#[inline]
-fn pair_force_finite(list: &PairList, pos: &[Vec3], i: usize, buf: &mut [Vec3]) -> Vec3 {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if has_avx2_fma() {
-            // SAFETY: the processor has the features; partners are real particles, below
-            // `pos.len()` and `buf.len()` (checked by indexing inside).
-            return unsafe { pair_force_finite_avx2(list, pos, i, buf) };
-        }
-    }
-    pair_force_finite_portable(list, pos, i, buf, list.pairs.range(i))
-}
-
-#[inline(always)]
-fn pair_force_finite_portable(
-    list: &PairList,
-    pos: &[Vec3],
-    i: usize,
-    buf: &mut [Vec3],
-    range: std::ops::Range<usize>,
-) -> Vec3 {
-    let pairs = &list.pairs;
-    let yi = pos[i];
-    let mut acc = Vec3::zeros();
-    for b in range {
-        let j = pairs.partner[b] as usize;
-        let y = pos[j] - yi;
-        let l = y.norm();
-        let f = y * (f64::from(list.pair_weight[b]) * (l - pairs.length(b)) / l);
+            Some(x) => {
+                let xi = x[j] - x[i];
+                let eta = pos[j] - x[j] - (pos[i] - x[i]);
+                xi * (wb * eta.dot(&xi) / xi.norm_squared())
+            }
+        };
         acc += f;
-        buf[j] -= f;
-    }
-    acc
-}
-
-/// Particle `i`'s pairs, linearised kinematics (see [`pair_force_finite`]).
-#[inline]
-fn pair_force_small(
-    list: &PairList,
-    pos: &[Vec3],
-    reference: &[Vec3],
-    i: usize,
-    buf: &mut [Vec3],
-) -> Vec3 {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if has_avx2_fma() {
-            // SAFETY: as in `pair_force_finite`.
-            return unsafe { pair_force_small_avx2(list, pos, reference, i, buf) };
+        if SCATTER {
+            buf[j] -= f;
         }
-    }
-    pair_force_small_portable(list, pos, reference, i, buf, list.pairs.range(i))
-}
-
-#[inline(always)]
-fn pair_force_small_portable(
-    list: &PairList,
-    pos: &[Vec3],
-    reference: &[Vec3],
-    i: usize,
-    buf: &mut [Vec3],
-    range: std::ops::Range<usize>,
-) -> Vec3 {
-    let pairs = &list.pairs;
-    let ui = pos[i] - reference[i];
-    let mut acc = Vec3::zeros();
-    for b in range {
-        let j = pairs.partner[b] as usize;
-        let xi = reference[j] - reference[i];
-        let eta = pos[j] - reference[j] - ui;
-        let f = xi * (f64::from(list.pair_weight[b]) * eta.dot(&xi) / xi.norm_squared());
-        acc += f;
-        buf[j] -= f;
     }
     acc
 }
@@ -663,14 +405,9 @@ unsafe fn gather4(v: &[Vec3], j: &[u32]) -> [std::arch::x86_64::__m256d; 3] {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-unsafe fn scatter_sub4(
-    buf: &mut [Vec3],
-    j: &[u32],
-    fx: std::arch::x86_64::__m256d,
-    fy: std::arch::x86_64::__m256d,
-    fz: std::arch::x86_64::__m256d,
-) {
+unsafe fn scatter_sub4(buf: &mut [Vec3], j: &[u32], f: [std::arch::x86_64::__m256d; 3]) {
     use std::arch::x86_64::*;
+    let [fx, fy, fz] = f;
     // (x, y) pairs of lanes 0 and 2, 1 and 3: the transpose of `gather4`.
     let a = _mm256_unpacklo_pd(fx, fy);
     let b = _mm256_unpackhi_pd(fx, fy);
@@ -699,95 +436,63 @@ unsafe fn hsum(v: std::arch::x86_64::__m256d) -> f64 {
     (l[0] + l[1]) + (l[2] + l[3])
 }
 
-/// [`pair_force_finite`] in AVX2/FMA, four pairs per step: `1/|y|` from the single-precision
-/// estimate refined by two Newton steps (relative error about 1e-13), which keeps the square
-/// root and the division off the divider unit that bounds the plain loop.
+/// [`bond_sum`] in AVX2/FMA, four bonds per step, the rest one at a time. Finite kinematics:
+/// `1/|y|` from the single-precision estimate refined by two Newton steps (relative error
+/// about 1e-13), which keeps the square root and the division off the divider unit that
+/// bounds the plain loop.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn pair_force_finite_avx2(
-    list: &PairList,
+unsafe fn bond_sum_avx2<const SCATTER: bool>(
+    bonds: &BondList,
+    w: &[f32],
     pos: &[Vec3],
+    reference: Option<&[Vec3]>,
     i: usize,
     buf: &mut [Vec3],
 ) -> Vec3 {
-    use std::arch::x86_64::*;
-    let range = list.pairs.range(i);
-    let partner = &list.pairs.partner[range.clone()];
-    let length = &list.pairs.length[range.clone()];
-    let w = &list.pair_weight[range.clone()];
-    let yi = pos[i];
-    let (cx, cy, cz) = (
-        _mm256_set1_pd(yi.x),
-        _mm256_set1_pd(yi.y),
-        _mm256_set1_pd(yi.z),
-    );
-    let one = _mm256_set1_pd(1.0);
-    let three_halves = _mm256_set1_pd(1.5);
-    let half = _mm256_set1_pd(0.5);
-    let (mut ax, mut ay, mut az) = (
-        _mm256_setzero_pd(),
-        _mm256_setzero_pd(),
-        _mm256_setzero_pd(),
-    );
-    let groups = partner.len() / 4;
-    for g in 0..groups {
-        let k = 4 * g;
-        let j = &partner[k..k + 4];
-        let [px, py, pz] = gather4(pos, j);
-        let (dx, dy, dz) = (
-            _mm256_sub_pd(px, cx),
-            _mm256_sub_pd(py, cy),
-            _mm256_sub_pd(pz, cz),
-        );
-        let r2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
-        let mut inv = _mm256_cvtps_pd(_mm_rsqrt_ps(_mm256_cvtpd_ps(r2)));
-        let h = _mm256_mul_pd(half, r2);
-        for _ in 0..2 {
-            let t = _mm256_mul_pd(inv, inv);
-            inv = _mm256_mul_pd(inv, _mm256_fnmadd_pd(h, t, three_halves));
-        }
-        let l0 = _mm256_cvtps_pd(_mm_loadu_ps(length[k..k + 4].as_ptr()));
-        let wb = _mm256_cvtps_pd(_mm_loadu_ps(w[k..k + 4].as_ptr()));
-        // w (|y| − L)/|y| = w (1 − L/|y|)
-        let s = _mm256_mul_pd(wb, _mm256_fnmadd_pd(l0, inv, one));
-        let (fx, fy, fz) = (
-            _mm256_mul_pd(dx, s),
-            _mm256_mul_pd(dy, s),
-            _mm256_mul_pd(dz, s),
-        );
-        ax = _mm256_add_pd(ax, fx);
-        ay = _mm256_add_pd(ay, fy);
-        az = _mm256_add_pd(az, fz);
-        scatter_sub4(buf, j, fx, fy, fz);
-    }
-    let acc = Vec3::new(hsum(ax), hsum(ay), hsum(az));
-    acc + pair_force_finite_portable(list, pos, i, buf, range.start + 4 * groups..range.end)
+    // One loop per kinematics, so that the choice is not made per group of bonds.
+    let acc = match reference {
+        None => bond_group_sum::<SCATTER, false>(bonds, w, pos, &[], i, buf),
+        Some(x) => bond_group_sum::<SCATTER, true>(bonds, w, pos, x, i, buf),
+    };
+    let range = bonds.range(i);
+    let rest = range.start + 4 * (range.len() / 4)..range.end;
+    acc + bond_sum_portable::<SCATTER>(bonds, w, pos, reference, i, buf, rest)
 }
 
-/// [`pair_force_small`] in AVX2/FMA, four pairs per step.
+/// The groups of four of [`bond_sum_avx2`]; `SMALL` selects the linearised kinematics (then
+/// `reference` holds the reference positions).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn pair_force_small_avx2(
-    list: &PairList,
+#[inline]
+unsafe fn bond_group_sum<const SCATTER: bool, const SMALL: bool>(
+    bonds: &BondList,
+    w: &[f32],
     pos: &[Vec3],
     reference: &[Vec3],
     i: usize,
     buf: &mut [Vec3],
 ) -> Vec3 {
     use std::arch::x86_64::*;
-    let range = list.pairs.range(i);
-    let partner = &list.pairs.partner[range.clone()];
-    let w = &list.pair_weight[range.clone()];
-    let (xi0, ui) = (reference[i], pos[i] - reference[i]);
-    let (rx, ry, rz) = (
-        _mm256_set1_pd(xi0.x),
-        _mm256_set1_pd(xi0.y),
-        _mm256_set1_pd(xi0.z),
-    );
-    let (ux, uy, uz) = (
-        _mm256_set1_pd(ui.x),
-        _mm256_set1_pd(ui.y),
-        _mm256_set1_pd(ui.z),
+    let range = bonds.range(i);
+    let partner = &bonds.partner[range.clone()];
+    let length = &bonds.length[range.clone()];
+    let w4 = &w[range.clone()];
+    let splat = |v: Vec3| {
+        [
+            _mm256_set1_pd(v.x),
+            _mm256_set1_pd(v.y),
+            _mm256_set1_pd(v.z),
+        ]
+    };
+    let [cx, cy, cz] = splat(pos[i]);
+    let xi0 = if SMALL { reference[i] } else { Vec3::zeros() };
+    let [rx, ry, rz] = splat(xi0);
+    let [ux, uy, uz] = splat(if SMALL { pos[i] - xi0 } else { Vec3::zeros() });
+    let (one, three_halves, half) = (
+        _mm256_set1_pd(1.0),
+        _mm256_set1_pd(1.5),
+        _mm256_set1_pd(0.5),
     );
     let (mut ax, mut ay, mut az) = (
         _mm256_setzero_pd(),
@@ -798,42 +503,59 @@ unsafe fn pair_force_small_avx2(
     for g in 0..groups {
         let k = 4 * g;
         let j = &partner[k..k + 4];
+        let wb = _mm256_cvtps_pd(_mm_loadu_ps(w4[k..k + 4].as_ptr()));
         let [px, py, pz] = gather4(pos, j);
-        let [qx, qy, qz] = gather4(reference, j);
-        // ξ = X_j − X_i; η = (y_j − X_j) − u_i.
-        let (sx, sy, sz) = (
-            _mm256_sub_pd(qx, rx),
-            _mm256_sub_pd(qy, ry),
-            _mm256_sub_pd(qz, rz),
-        );
-        let (ex, ey, ez) = (
-            _mm256_sub_pd(_mm256_sub_pd(px, qx), ux),
-            _mm256_sub_pd(_mm256_sub_pd(py, qy), uy),
-            _mm256_sub_pd(_mm256_sub_pd(pz, qz), uz),
-        );
-        let dot = _mm256_fmadd_pd(ez, sz, _mm256_fmadd_pd(ey, sy, _mm256_mul_pd(ex, sx)));
-        let len2 = _mm256_fmadd_pd(sz, sz, _mm256_fmadd_pd(sy, sy, _mm256_mul_pd(sx, sx)));
-        let wb = _mm256_cvtps_pd(_mm_loadu_ps(w[k..k + 4].as_ptr()));
-        let s = _mm256_div_pd(_mm256_mul_pd(wb, dot), len2);
-        let (fx, fy, fz) = (
-            _mm256_mul_pd(sx, s),
-            _mm256_mul_pd(sy, s),
-            _mm256_mul_pd(sz, s),
-        );
-        ax = _mm256_add_pd(ax, fx);
-        ay = _mm256_add_pd(ay, fy);
-        az = _mm256_add_pd(az, fz);
-        scatter_sub4(buf, j, fx, fy, fz);
+        let f = if !SMALL {
+            let (dx, dy, dz) = (
+                _mm256_sub_pd(px, cx),
+                _mm256_sub_pd(py, cy),
+                _mm256_sub_pd(pz, cz),
+            );
+            let r2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
+            let mut inv = _mm256_cvtps_pd(_mm_rsqrt_ps(_mm256_cvtpd_ps(r2)));
+            let h = _mm256_mul_pd(half, r2);
+            for _ in 0..2 {
+                let t = _mm256_mul_pd(inv, inv);
+                inv = _mm256_mul_pd(inv, _mm256_fnmadd_pd(h, t, three_halves));
+            }
+            let l0 = _mm256_cvtps_pd(_mm_loadu_ps(length[k..k + 4].as_ptr()));
+            // w (|y| − L)/|y| = w (1 − L/|y|)
+            let s = _mm256_mul_pd(wb, _mm256_fnmadd_pd(l0, inv, one));
+            [
+                _mm256_mul_pd(dx, s),
+                _mm256_mul_pd(dy, s),
+                _mm256_mul_pd(dz, s),
+            ]
+        } else {
+            let [qx, qy, qz] = gather4(reference, j);
+            // ξ = X_j − X_i; η = (y_j − X_j) − u_i.
+            let (sx, sy, sz) = (
+                _mm256_sub_pd(qx, rx),
+                _mm256_sub_pd(qy, ry),
+                _mm256_sub_pd(qz, rz),
+            );
+            let (ex, ey, ez) = (
+                _mm256_sub_pd(_mm256_sub_pd(px, qx), ux),
+                _mm256_sub_pd(_mm256_sub_pd(py, qy), uy),
+                _mm256_sub_pd(_mm256_sub_pd(pz, qz), uz),
+            );
+            let dot = _mm256_fmadd_pd(ez, sz, _mm256_fmadd_pd(ey, sy, _mm256_mul_pd(ex, sx)));
+            let len2 = _mm256_fmadd_pd(sz, sz, _mm256_fmadd_pd(sy, sy, _mm256_mul_pd(sx, sx)));
+            let s = _mm256_div_pd(_mm256_mul_pd(wb, dot), len2);
+            [
+                _mm256_mul_pd(sx, s),
+                _mm256_mul_pd(sy, s),
+                _mm256_mul_pd(sz, s),
+            ]
+        };
+        ax = _mm256_add_pd(ax, f[0]);
+        ay = _mm256_add_pd(ay, f[1]);
+        az = _mm256_add_pd(az, f[2]);
+        if SCATTER {
+            scatter_sub4(buf, j, f);
+        }
     }
-    let acc = Vec3::new(hsum(ax), hsum(ay), hsum(az));
-    acc + pair_force_small_portable(
-        list,
-        pos,
-        reference,
-        i,
-        buf,
-        range.start + 4 * groups..range.end,
-    )
+    Vec3::new(hsum(ax), hsum(ay), hsum(az))
 }
 
 #[cfg(test)]
