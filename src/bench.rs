@@ -420,16 +420,13 @@ pub fn run_adr(
         };
         let (once, _, _) = timed_adr(1)?;
         let (all, model, done) = timed_adr(iterations + 1)?;
-        let adr = (all - once).max(0.0) / done.saturating_sub(1).max(1) as f64;
-        let stats = crate::solver::RunStats {
-            iterations: done.saturating_sub(1),
-            ..Default::default()
-        };
+        let timed_iterations = done.saturating_sub(1);
+        let adr = (all - once).max(0.0) / timed_iterations.max(1) as f64;
         Ok(AdrReport {
             scene: scene.source.clone(),
             particles: model.particles(),
             bonds: model.bonds(),
-            iterations: stats.iterations,
+            iterations: timed_iterations,
             threads: rayon::current_num_threads(),
             bond_pass_seconds: bond_pass,
             adr_iteration_seconds: adr,

@@ -132,11 +132,6 @@ impl PairList {
         self.particles
     }
 
-    /// Pairs between real particles.
-    pub fn pair_count(&self) -> usize {
-        self.pairs.len()
-    }
-
     /// Directed bonds: each pair counts twice, a bond to a mirror image once.
     pub fn directed_bonds(&self) -> usize {
         2 * self.pairs.len() + self.images.len()
@@ -147,11 +142,6 @@ impl PairList {
         self.pairs.bytes()
             + self.images.bytes()
             + 4 * (self.pair_weight.len() + self.image_weight.len())
-    }
-
-    /// The pairs and their weights (partner, length, weight per pair of particle `i`).
-    pub fn pairs(&self) -> (&BondList, &[f32]) {
-        (&self.pairs, &self.pair_weight)
     }
 
     /// Strain energy `¼ Σ_pairs (w_ij + w_ji) (|y| − L)² + ¼ Σ_images w (|y| − L)²` at
@@ -240,11 +230,14 @@ pub fn pair_forces<T: Send>(
 ) {
     let n = list.particles;
     assert!(out.len() == n && pos.len() >= n);
-    if let PairKinematics::Small(reference) = kinematics {
-        assert!(reference.len() >= pos.len());
-    }
-    // Every partner indexes `pos` (real pairs below n): the vector kernels rely on it.
-    debug_assert!(list.pairs.partner.iter().all(|&j| (j as usize) < n));
+    // The kernels take the reference positions for linearised kinematics, none for finite.
+    let reference = match kinematics {
+        PairKinematics::Finite => None,
+        PairKinematics::Small(x) => {
+            assert!(x.len() >= pos.len());
+            Some(x)
+        }
+    };
     let parts = rayon::current_num_threads().clamp(1, 64).min(n.max(1));
     let ranges = list.partition(parts);
     buffers.buffers.resize_with(parts, Vec::new);
@@ -257,10 +250,7 @@ pub fn pair_forces<T: Send>(
             buf.clear();
             buf.resize(n, Vec3::zeros());
             for i in range.clone() {
-                let f = match kinematics {
-                    PairKinematics::Finite => pair_force(list, pos, None, i, buf),
-                    PairKinematics::Small(x) => pair_force(list, pos, Some(x), i, buf),
-                };
+                let f = bond_sum::<true>(&list.pairs, &list.pair_weight, pos, reference, i, buf);
                 buf[i] += f;
             }
         });
@@ -275,39 +265,14 @@ pub fn pair_forces<T: Send>(
             if let Some(&s) = list.share.get(i) {
                 f *= s;
             }
-            f += match kinematics {
-                PairKinematics::Finite => image_force(list, pos, i, None),
-                PairKinematics::Small(x) => image_force(list, pos, i, Some(x)),
-            };
+            // Bonds to mirror images act on `i` alone.
+            if !list.images.range(i).is_empty() {
+                f +=
+                    bond_sum::<false>(&list.images, &list.image_weight, pos, reference, i, &mut []);
+            }
             finish(i, f, o);
         }
     });
-}
-
-/// The force of particle `i`'s bonds to mirror images (directed: on `i` only).
-#[inline]
-fn image_force(list: &PairList, pos: &[Vec3], i: usize, reference: Option<&[Vec3]>) -> Vec3 {
-    if list.images.range(i).is_empty() {
-        return Vec3::zeros();
-    }
-    let (bonds, w) = (&list.images, &list.image_weight[..]);
-    match reference {
-        None => bond_sum::<false>(bonds, w, pos, None, i, &mut []),
-        Some(x) => bond_sum::<false>(bonds, w, pos, Some(x), i, &mut []),
-    }
-}
-
-/// Particle `i`'s pairs: returns the force on `i` and subtracts each pair's force from
-/// `buf[j]` (finite kinematics without `reference`, linearised with it).
-#[inline]
-fn pair_force(
-    list: &PairList,
-    pos: &[Vec3],
-    reference: Option<&[Vec3]>,
-    i: usize,
-    buf: &mut [Vec3],
-) -> Vec3 {
-    bond_sum::<true>(&list.pairs, &list.pair_weight, pos, reference, i, buf)
 }
 
 /// The force of particle `i`'s bonds in `bonds` (weights `w`) on `i`: with finite kinematics

@@ -286,11 +286,11 @@ pub fn adr(
     let mut rigid_lambda = vec![0.0f64; nb];
     // The fictitious density of a particle: its bonds' plus its current contact stiffness.
     // Computed where it is used, in the passes below, rather than stored.
-    let lambda_of = |density: &[f64], pd: &crate::body::PdBody, i: usize| -> f64 {
-        density[i] + CONTACT_ROW * pd.contact_stiffness[i]
-    };
+    fn lambda_of(density: &[f64], contact_stiffness: &[f64], i: usize) -> f64 {
+        density[i] + CONTACT_ROW * contact_stiffness[i]
+    }
 
-    let update_lambda = |model: &Model, rigid_lambda: &mut Vec<f64>| {
+    let update_rigid_lambda = |model: &Model, rigid_lambda: &mut Vec<f64>| {
         for (k, b) in model.bodies.iter().enumerate() {
             match b {
                 Body::Rigid(rb) if rb.motion == Motion::Free => {
@@ -308,7 +308,7 @@ pub fn adr(
             }
         }
     };
-    update_lambda(model, &mut rigid_lambda);
+    update_rigid_lambda(model, &mut rigid_lambda);
 
     // Eq. 30: v^{1/2} = F⁰/(2λ); then u¹ = u⁰ + v^{1/2}.
     for (k, b) in model.bodies.iter_mut().enumerate() {
@@ -316,8 +316,8 @@ pub fn adr(
             Body::Deformable(pd) => {
                 for i in 0..pd.len() {
                     let ff = free_factor(pd.fixed[i]);
-                    pd.v[i] =
-                        pd.force[i].component_mul(&ff) / (2.0 * lambda_of(&density[k], pd, i));
+                    pd.v[i] = pd.force[i].component_mul(&ff)
+                        / (2.0 * lambda_of(&density[k], &pd.contact_stiffness, i));
                     pd.u[i] += pd.v[i];
                 }
                 prev_f[k] = pd.force.clone();
@@ -337,7 +337,7 @@ pub fn adr(
     loop {
         n += 1;
         model.compute_forces();
-        update_lambda(model, &mut rigid_lambda);
+        update_rigid_lambda(model, &mut rigid_lambda);
         // One pass over each body's particles for the finiteness check, the residual and the
         // damping's Rayleigh quotient (Eqs. 32-33): the bookkeeping of an iteration is then
         // this pass and the update below, next to the force pass.
@@ -357,7 +357,7 @@ pub fn adr(
                                 residual: f.component_mul(&ff).norm_squared(),
                                 ..AdrSums::default()
                             };
-                            let lam = lambda_of(dens, pd, i);
+                            let lam = lambda_of(dens, &pd.contact_stiffness, i);
                             for a in 0..3 {
                                 if ff[a] == 0.0 {
                                     continue;
@@ -434,7 +434,7 @@ pub fn adr(
                         .for_each(|(i, ((v, u), prev))| {
                             let ff = free_factor(pd.fixed[i]);
                             let f = pd.force[i];
-                            let lam = dens[i] + CONTACT_ROW * kc[i];
+                            let lam = lambda_of(dens, kc, i);
                             *v =
                                 ((*v * (2.0 - c) + f * (2.0 / lam)) / (2.0 + c)).component_mul(&ff);
                             *u += *v;
