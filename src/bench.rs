@@ -415,7 +415,7 @@ pub fn run_adr(
         let timed_adr = |n: usize| -> Result<(f64, crate::model::Model, usize)> {
             let mut model = crate::model::Model::from_scene(scene)?;
             let start = Instant::now();
-            let stats = crate::solver::adr(&mut model, 0.0, n, &mut crate::solver::Silent)?;
+            let stats = crate::solver::adr(&mut model, 0.0, n, 1, &mut crate::solver::Silent)?;
             Ok((start.elapsed().as_secs_f64(), model, stats.iterations))
         };
         let (once, _, _) = timed_adr(1)?;

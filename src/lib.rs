@@ -38,6 +38,7 @@ pub mod model;
 pub mod neighbours;
 pub mod output;
 pub mod pairs;
+pub mod reduction;
 pub mod run;
 pub mod scene;
 pub mod segments;

@@ -156,23 +156,20 @@ impl PairList {
                 })
                 .sum()
         };
-        (0..self.particles)
-            .into_par_iter()
-            .map(|i| {
-                let si = self.share.get(i).copied().unwrap_or(1.0);
-                let pairs = &self.pairs;
-                let paired: f64 = pairs
-                    .range(i)
-                    .map(|b| {
-                        let j = pairs.partner[b] as usize;
-                        let sj = self.share.get(j).copied().unwrap_or(1.0);
-                        let s = (pos[j] - pos[i]).norm() - pairs.length(b);
-                        (si + sj) * f64::from(self.pair_weight[b]) * s * s
-                    })
-                    .sum();
-                0.25 * paired + 0.25 * term(&self.images, &self.image_weight, i)
-            })
-            .sum()
+        crate::reduction::ordered_sum(self.particles, |i| {
+            let si = self.share.get(i).copied().unwrap_or(1.0);
+            let pairs = &self.pairs;
+            let paired: f64 = pairs
+                .range(i)
+                .map(|b| {
+                    let j = pairs.partner[b] as usize;
+                    let sj = self.share.get(j).copied().unwrap_or(1.0);
+                    let s = (pos[j] - pos[i]).norm() - pairs.length(b);
+                    (si + sj) * f64::from(self.pair_weight[b]) * s * s
+                })
+                .sum();
+            0.25 * paired + 0.25 * term(&self.images, &self.image_weight, i)
+        })
     }
 
     /// Ranges of particles with about equal numbers of pairs, one per part.

@@ -65,6 +65,9 @@ pub struct SolverSpec {
     pub tolerance: Option<f64>,
     /// ADR: iteration cap (default 200000).
     pub max_iterations: Option<usize>,
+    /// ADR: apply the loads in this many equal increments, each relaxed to the tolerance
+    /// (default 1, all at once).
+    pub load_steps: Option<usize>,
     /// Explicit: time step in seconds (default: `safety` × the stable step).
     pub dt: Option<f64>,
     /// Explicit: fraction of the stable time step (default 0.8).
@@ -562,6 +565,12 @@ impl Scene {
                             format!("tolerance must be in (0, 1), got {t}"),
                         ));
                     }
+                }
+                if self.solver.load_steps == Some(0) {
+                    return Err(err(
+                        "load_steps",
+                        "load_steps must be at least 1, got 0".to_string(),
+                    ));
                 }
             }
             SolverKind::Explicit => {
