@@ -36,11 +36,17 @@ pub const SKIN: f64 = 0.3;
 pub const WINDOW: f64 = 0.5;
 /// Tolerance on `|r|, |t| ≤ 1`.
 pub const INSIDE_TOLERANCE: f64 = 1e-6;
-/// A slave may touch a segment only if their normals oppose: `n_s · n_m < −FACING`.
+/// A slave touches a segment first of all when their normals oppose: `n_s · n_m < −FACING`.
 ///
 /// Without it, a slave just inside the edge of a convex master (a punch's corner) is closer to
 /// the side face than to the face it pressed on, and is pushed out sideways.
 pub const FACING: f64 = 0.1;
+
+/// A slave that no facing segment holds in its window may touch a segment across its normal,
+/// `|n_s · n_m| < EDGE_FACING`, within the window: the free surface beside a punch, drawn down
+/// and inward around the punch's corner, meets the punch's side face edge-on. Faces turned
+/// further away (the back of a thin master) are never touched.
+pub const EDGE_FACING: f64 = 0.5;
 
 /// The slave's outward normal now: the reference normal of the eigenvalue surface detection
 /// (METHOD.md §3), turned by the rotation that takes the particle's reference neighbour
@@ -65,6 +71,67 @@ pub fn slave_normal(body: &PdBody, i: usize) -> Vec3 {
     match nalgebra::Rotation3::rotation_between(&c0, &c) {
         Some(r) if c0.norm() > 0.0 && c.norm() > 0.0 => r * n_ref,
         _ => n_ref,
+    }
+}
+
+/// What the narrow phase finds for one slave.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Touch {
+    /// Pressed on this segment, within the window.
+    Contact(u32, Projection),
+    /// Behind the segment it faces by more than the window: it went through.
+    Missed,
+    /// Touching nothing.
+    Clear,
+}
+
+/// Picks the segment a slave touches among the segments it projects inside (Sec. 2.2.3):
+/// the facing segment (`n_s · n_m < −FACING`) nearest to it, if the slave is behind it within
+/// the window; else, if the slave is behind every segment it projects on (inside a convex
+/// master), the edge-on segment (`|n_s · n_m| < EDGE_FACING`) it has entered least. The slave's
+/// normal `normal()` is computed only if a segment is found.
+pub fn select_segment(
+    candidates: impl Iterator<Item = (u32, Projection)>,
+    normal: impl FnOnce() -> Vec3,
+    window: f64,
+) -> Touch {
+    let mut normal = Some(normal);
+    let mut n_s: Option<Vec3> = None;
+    let mut best: Option<(u32, Projection)> = None;
+    let mut edge: Option<(u32, Projection)> = None;
+    // In front of any segment it projects on, the slave is outside a convex master: then it
+    // cannot be touching a face edge-on.
+    let mut in_front = false;
+    for (seg, pr) in candidates {
+        let n = *n_s.get_or_insert_with(|| normal.take().map_or_else(Vec3::zeros, |f| f()));
+        let facing = n.dot(&pr.normal);
+        in_front |= pr.gap >= 0.0;
+        if facing < -FACING {
+            if best
+                .as_ref()
+                .is_none_or(|(_, b)| pr.gap.abs() < b.gap.abs())
+            {
+                best = Some((seg, pr));
+            }
+        } else if facing < EDGE_FACING
+            && pr.gap < 0.0
+            && -pr.gap <= window
+            && edge.as_ref().is_none_or(|(_, e)| pr.gap > e.gap)
+        {
+            edge = Some((seg, pr));
+        }
+    }
+    let held = |c: &Option<(u32, Projection)>| {
+        c.as_ref()
+            .is_some_and(|(_, pr)| pr.gap < 0.0 && -pr.gap <= window)
+    };
+    if !held(&best) && !in_front && edge.is_some() {
+        best = edge;
+    }
+    match best {
+        Some((seg, pr)) if pr.gap < 0.0 && -pr.gap <= window => Touch::Contact(seg, pr),
+        Some((_, pr)) if pr.gap < -window => Touch::Missed,
+        _ => Touch::Clear,
     }
 }
 
@@ -320,7 +387,12 @@ pub struct ContactPass {
     pub contacts: Vec<ContactPoint>,
     /// Slaves found behind a segment by more than the window in the last evaluation.
     pub missed: usize,
+    /// Per slave, the segment it touched in the last evaluation ([`NO_SEGMENT`] if none).
+    held: Vec<u32>,
 }
+
+/// No segment held.
+const NO_SEGMENT: u32 = u32::MAX;
 
 impl ContactPass {
     /// Sets up a pass; `bodies[slave]` must be deformable.
@@ -338,6 +410,7 @@ impl ContactPass {
         let slaves: Vec<u32> = (0..sb.len() as u32)
             .filter(|&i| sb.case.surface.is_surface[i as usize])
             .collect();
+        let slave_count = slaves.len();
         let view = MasterView::of(&bodies[master]);
         let segs = view.segments();
         let node_count = match view {
@@ -402,6 +475,7 @@ impl ContactPass {
             verlet: VerletList::default(),
             contacts: Vec::new(),
             missed: 0,
+            held: vec![NO_SEGMENT; slave_count],
         }
     }
 
@@ -507,6 +581,19 @@ impl ContactPass {
         }
         let segs = view.segments();
         let window = self.law.window;
+        let contact = |s: u32, segment: u32, pr: Projection| {
+            let d = -pr.gap;
+            // A slave on a symmetry plane is only part of its particle.
+            let f = self.weight * sb.case.ghosts.share(s as usize) * self.law.force(d);
+            let point = ContactPoint {
+                slave: s,
+                segment,
+                projection: pr,
+                penetration: d,
+                force: pr.normal * f,
+            };
+            (Some(point), false)
+        };
         let results: Vec<(Option<ContactPoint>, bool)> = (0..self.slaves.len())
             .into_par_iter()
             .map(|k| {
@@ -516,45 +603,42 @@ impl ContactPass {
                     self.verlet.offsets[k] as usize,
                     self.verlet.offsets[k + 1] as usize,
                 );
-                let mut best: Option<(u32, Projection)> = None;
-                let mut normal: Option<Vec3> = None;
-                for &seg in &self.verlet.candidates[a..b] {
-                    let x = view.corners(seg as usize);
-                    if let Some(pr) = project(p, x, segs[seg as usize].is_triangle()) {
-                        let n_s = *normal.get_or_insert_with(|| slave_normal(sb, s as usize));
-                        if n_s.dot(&pr.normal) >= -FACING {
-                            continue;
-                        }
-                        if best
-                            .as_ref()
-                            .is_none_or(|(_, b)| pr.gap.abs() < b.gap.abs())
-                        {
-                            best = Some((seg, pr));
-                        }
-                    }
-                }
-                match best {
-                    Some((seg, pr)) if pr.gap < 0.0 && -pr.gap <= window => {
-                        let d = -pr.gap;
-                        // A slave on a symmetry plane is only part of its particle.
-                        let f = self.weight * sb.case.ghosts.share(s as usize) * self.law.force(d);
-                        (
-                            Some(ContactPoint {
-                                slave: s,
-                                segment: seg,
-                                projection: pr,
-                                penetration: d,
-                                force: pr.normal * f,
-                            }),
-                            false,
+                // A slave keeps the segment it touched while it stays inside it and within the
+                // window: at a convex master's corner, where the slave's own normal turns with
+                // the distortion around it, the normals cannot tell which face it is pressed on.
+                let held = self.held[k];
+                let kept = (held != NO_SEGMENT)
+                    .then(|| {
+                        project(
+                            p,
+                            view.corners(held as usize),
+                            segs[held as usize].is_triangle(),
                         )
-                    }
-                    Some((_, pr)) if pr.gap < -window => (None, true),
-                    _ => (None, false),
+                    })
+                    .flatten()
+                    .filter(|pr| pr.gap < 0.0 && -pr.gap <= window);
+                if let Some(pr) = kept {
+                    return contact(s, held, pr);
+                }
+                let candidates = self.verlet.candidates[a..b].iter().filter_map(|&seg| {
+                    project(
+                        p,
+                        view.corners(seg as usize),
+                        segs[seg as usize].is_triangle(),
+                    )
+                    .map(|pr| (seg, pr))
+                });
+                match select_segment(candidates, || slave_normal(sb, s as usize), window) {
+                    Touch::Contact(seg, pr) => contact(s, seg, pr),
+                    Touch::Missed => (None, true),
+                    Touch::Clear => (None, false),
                 }
             })
             .collect();
         self.missed = results.iter().filter(|r| r.1).count();
+        for (held, r) in self.held.iter_mut().zip(&results) {
+            *held = r.0.as_ref().map_or(NO_SEGMENT, |c| c.segment);
+        }
         self.contacts = results.into_iter().filter_map(|r| r.0).collect();
     }
 
@@ -618,6 +702,71 @@ mod tests {
             Vec3::new(1.0, 1.0, z),
             Vec3::new(0.0, 1.0, z),
         ]
+    }
+
+    /// A punch's bottom face (z = 0, x in [−1, 1], outward −z) and its side face (x = 1,
+    /// z in [0, 1], outward +x), as segments 0 and 1, against a slave at `p` whose outward
+    /// normal is `n` (the top of the block under the punch: +z).
+    fn at_punch_corner(p: Vec3, n: Vec3) -> Touch {
+        let bottom = [
+            Vec3::new(-1.0, 0.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+        ];
+        let side = [
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(1.0, 1.0, 1.0),
+            Vec3::new(1.0, 0.0, 1.0),
+        ];
+        let candidates = [bottom, side]
+            .into_iter()
+            .enumerate()
+            .filter_map(|(k, x)| project(p, x, false).map(|pr| (k as u32, pr)));
+        select_segment(candidates, || n, 0.04)
+    }
+
+    #[test]
+    fn slave_at_a_punch_corner_touches_the_right_face() {
+        let up = Vec3::z();
+        let face = |t: Touch| match t {
+            Touch::Contact(seg, pr) => Some((seg, pr.gap)),
+            _ => None,
+        };
+        // Pressed on the base, away from the edge.
+        let t = face(at_punch_corner(Vec3::new(0.5, 0.5, 0.01), up)).expect("contact");
+        assert_eq!(t.0, 0);
+        assert!((t.1 + 0.01).abs() < 1e-12);
+        // Pressed on the base just inside its edge, nearer the side face than the base: the
+        // base holds it (not pushed out sideways).
+        let t = face(at_punch_corner(Vec3::new(0.995, 0.5, 0.01), up)).expect("contact");
+        assert_eq!(t.0, 0);
+        // Beside the punch, drawn in around its corner: above the base by more than the window,
+        // just inside the side face. It touches the side face edge-on.
+        let t = face(at_punch_corner(Vec3::new(0.995, 0.5, 0.2), up)).expect("contact");
+        assert_eq!(t.0, 1);
+        assert!((t.1 + 0.005).abs() < 1e-12);
+        // The same with the slave's normal turned a little (under 60 degrees) by the distortion.
+        let tilted = Vec3::new(-0.5, 0.0, 1.0).normalize();
+        assert_eq!(
+            face(at_punch_corner(Vec3::new(0.995, 0.5, 0.2), tilted)).map(|t| t.0),
+            Some(1)
+        );
+        // Outside the side face: in front of it, touching nothing.
+        assert_eq!(at_punch_corner(Vec3::new(1.02, 0.5, 0.2), up), Touch::Clear);
+        // Deep inside the punch, away from every face: it went through the base.
+        assert_eq!(at_punch_corner(Vec3::new(0.0, 0.5, 0.2), up), Touch::Missed);
+        // Below the base: clear.
+        assert_eq!(
+            at_punch_corner(Vec3::new(0.5, 0.5, -0.01), up),
+            Touch::Clear
+        );
+        // A slave facing away from the base (the back of a thin master) never touches it.
+        assert_eq!(
+            at_punch_corner(Vec3::new(0.5, 0.5, 0.01), -up),
+            Touch::Clear
+        );
     }
 
     #[test]

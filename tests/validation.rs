@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 
 use pdcontact::validate::{
-    hertz_punch_case, hertz_roller_case, hertz_sphere_case, run_case, sphere_cap_case,
+    hertz_punch_case, hertz_roller_case, hertz_sphere_case, punch_at, run_case, sphere_cap_case,
     ValidationRow, STIFF_PENALTY,
 };
 
@@ -67,6 +67,44 @@ fn sadowsky_punch_at_eight_particles_across_the_half_width() {
     let row = run(hertz_punch_case(8.0), "punch");
     assert!(row.mre < 0.065, "MRE {}", row.mre);
     assert!(row.force_balance_error < 1e-3);
+}
+
+#[test]
+fn punch_pressed_hard_holds_its_corners_and_load_steps_agree() {
+    // The paper's punch load, mean pressure 0.16 E, with the punch's edge a quarter spacing
+    // short of the next particle row (a/Δ = 7.75): the block's surface beside the punch is drawn
+    // down and in around the punch's corner until that row meets the punch's side face edge-on.
+    // The contact must hold it there (before, it was lost as a missed contact) and carry the
+    // load; three load increments must reach the same equilibrium.
+    // Measured: radius +3.11 % (the row at 8Δ is loaded), balance 2.1e-5, in both; 0.5 s each.
+    let case = punch_at(7.75, 0.16);
+    let once = run(case.clone(), "hard");
+    assert!(once.force_balance_error < 1e-3);
+    // The farthest loaded particle is the row beyond the edge, at 8Δ = 1.032 a (r is measured
+    // across the total contact force, which the side contact tilts by a few degrees).
+    assert!(
+        (once.radius_error - (8.0 / 7.75 - 1.0)).abs() < 2e-3,
+        "farthest loaded particle at {} a",
+        1.0 + once.radius_error
+    );
+    let mut stepped = case;
+    stepped.scene = stepped.scene.replace(
+        "max_iterations = 200000",
+        "max_iterations = 200000\nload_steps = 3",
+    );
+    assert!(stepped.scene.contains("load_steps = 3"));
+    let stepped = run(stepped, "hard-stepped");
+    assert!(stepped.force_balance_error < 1e-3);
+    assert!(
+        (stepped.mre - once.mre).abs() < 1e-3,
+        "MRE {} in three increments, {} at once",
+        stepped.mre,
+        once.mre
+    );
+    assert!(
+        (stepped.radius_error - once.radius_error).abs() < 1e-6,
+        "the same particles are loaded"
+    );
 }
 
 #[test]
