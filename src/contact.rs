@@ -14,7 +14,8 @@
 //!   Eq. 18, the bilinear map of Eqs. 19-20 is inverted for `(r, t)` by Newton's method, and the
 //!   slave is inside when `|r|, |t| ≤ 1` (a small tolerance keeps particles on shared edges; each
 //!   slave takes the one inside segment nearest to it among the segments that face it: their
-//!   normals oppose the slave's outward normal). The gap is
+//!   normals oppose the slave's outward normal; [`select_segment`] gives the rules at a convex
+//!   master's corner, and a slave keeps the segment it touches while it stays in it). The gap is
 //!   `g = (x_s − x_c(r,t)) · n_m` (Eq. 21); a slave is in contact when `g < 0` and `−g` is within
 //!   the window 0.5Δ. A slave behind a segment by more than the window is a missed contact.
 //! * **force** ([`ContactLaw`]): `F = K δ^{3/2}` along `n_m` on the slave with
@@ -74,6 +75,12 @@ pub fn slave_normal(body: &PdBody, i: usize) -> Vec3 {
     }
 }
 
+/// The slave is behind the segment, within the window: in contact (Eq. 21).
+#[inline]
+fn within_window(pr: &Projection, window: f64) -> bool {
+    pr.gap < 0.0 && -pr.gap <= window
+}
+
 /// What the narrow phase finds for one slave.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Touch {
@@ -95,16 +102,14 @@ pub fn select_segment(
     normal: impl FnOnce() -> Vec3,
     window: f64,
 ) -> Touch {
-    let mut normal = Some(normal);
-    let mut n_s: Option<Vec3> = None;
+    let n_s = std::cell::LazyCell::new(normal);
     let mut best: Option<(u32, Projection)> = None;
     let mut edge: Option<(u32, Projection)> = None;
     // In front of any segment it projects on, the slave is outside a convex master: then it
     // cannot be touching a face edge-on.
     let mut in_front = false;
     for (seg, pr) in candidates {
-        let n = *n_s.get_or_insert_with(|| normal.take().map_or_else(Vec3::zeros, |f| f()));
-        let facing = n.dot(&pr.normal);
+        let facing = n_s.dot(&pr.normal);
         in_front |= pr.gap >= 0.0;
         if facing < -FACING {
             if best
@@ -114,22 +119,20 @@ pub fn select_segment(
                 best = Some((seg, pr));
             }
         } else if facing < EDGE_FACING
-            && pr.gap < 0.0
-            && -pr.gap <= window
+            && within_window(&pr, window)
             && edge.as_ref().is_none_or(|(_, e)| pr.gap > e.gap)
         {
             edge = Some((seg, pr));
         }
     }
-    let held = |c: &Option<(u32, Projection)>| {
-        c.as_ref()
-            .is_some_and(|(_, pr)| pr.gap < 0.0 && -pr.gap <= window)
-    };
-    if !held(&best) && !in_front && edge.is_some() {
+    let facing_holds = best
+        .as_ref()
+        .is_some_and(|(_, pr)| within_window(pr, window));
+    if !facing_holds && !in_front && edge.is_some() {
         best = edge;
     }
     match best {
-        Some((seg, pr)) if pr.gap < 0.0 && -pr.gap <= window => Touch::Contact(seg, pr),
+        Some((seg, pr)) if within_window(&pr, window) => Touch::Contact(seg, pr),
         Some((_, pr)) if pr.gap < -window => Touch::Missed,
         _ => Touch::Clear,
     }
@@ -616,7 +619,7 @@ impl ContactPass {
                         )
                     })
                     .flatten()
-                    .filter(|pr| pr.gap < 0.0 && -pr.gap <= window);
+                    .filter(|pr| within_window(pr, window));
                 if let Some(pr) = kept {
                     return contact(s, held, pr);
                 }
