@@ -44,6 +44,8 @@ pub struct ConvertSummary {
     /// strain-energy error under the three uniaxial loads (METHOD.md §2).
     pub correction_passes: usize,
     pub correction_energy_error: f64,
+    /// Particles the correction left more than 1 % off the bulk energy.
+    pub correction_unbalanced: usize,
     /// What the importer and the mesh quality checks found.
     pub warnings: Vec<String>,
     pub seconds: ConvertSeconds,
@@ -68,6 +70,7 @@ impl ConvertSummary {
             dropped_faces: case.segments.dropped_faces,
             correction_passes: case.correction.passes,
             correction_energy_error: case.correction.max_energy_error,
+            correction_unbalanced: case.correction.unbalanced,
             warnings: case.mesh.warnings.clone(),
             seconds,
         }
@@ -80,6 +83,8 @@ impl ConvertSummary {
              bonds {} ({:.1} per particle), spacing {:.6e}, horizon {:.6e}\n\
              surface particles {}, mesh boundary nodes {}: {} missed, {} extra\n\
              master segments {} ({} boundary faces dropped)\n\
+             surface correction: {} passes, {} particles more than 1 % off the bulk energy \
+             (largest {:.2} %)\n\
              seconds: import {:.3}, discretize {:.3}, neighbours {:.3}, surface {:.3}, \
              correction {:.3}, segments {:.3}, write {:.3}, total {:.3}\n",
             self.particles,
@@ -96,6 +101,9 @@ impl ConvertSummary {
             self.surface_extra,
             self.master_segments,
             self.dropped_faces,
+            self.correction_passes,
+            self.correction_unbalanced,
+            100.0 * self.correction_energy_error,
             self.seconds.import,
             self.seconds.discretize,
             self.seconds.neighbours,

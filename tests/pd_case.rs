@@ -103,3 +103,39 @@ fn corrected_energy_density_under_uniaxial_strain() {
     }
     assert!(worst < 0.02, "worst energy density error {:.4}", worst);
 }
+
+/// Where three axis-aligned factors cannot balance a neighbourhood, the balanced correction
+/// stops at its bound instead of running away; where they can, however far from their first
+/// values, it still converges. Both on files of the shared corpus (present in CI).
+#[test]
+fn surface_correction_is_bounded_where_it_cannot_balance() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus");
+    if !dir.exists() {
+        eprintln!("../shared/corpus not present: test skipped");
+        return;
+    }
+    let case = |file: &str| {
+        let mesh = read_path(&dir.join(file), None).expect("corpus mesh");
+        PdCase::build(mesh, CaseOptions::default()).expect("valid mesh")
+    };
+    // An ANSYS sector, a few particles thick: unbounded, a bond's factor reached 1.4e3 and a
+    // particle's energy 9.7 times the bulk value.
+    let sector = case("cdb/sector.cdb");
+    let largest = sector
+        .correction
+        .bond_factor
+        .iter()
+        .copied()
+        .fold(0.0, f64::max);
+    eprintln!(
+        "sector: energy error {:.3}, {} unbalanced, largest bond factor {largest:.3e}",
+        sector.correction.max_energy_error, sector.correction.unbalanced
+    );
+    assert!(sector.correction.max_energy_error < 1.0);
+    assert!(largest.is_finite() && largest < 1e3, "{largest}");
+    // A hex beam two elements across: every particle is within δ of a face and needs large
+    // factors, which exist; the bound must not stop them.
+    let beam = case("cdb/HexBeam.cdb");
+    assert_eq!(beam.correction.unbalanced, 0);
+    assert!(beam.correction.max_energy_error < 0.0101);
+}
