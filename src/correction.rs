@@ -52,8 +52,9 @@ pub const RELAXATION: f64 = 1.8;
 /// How far the balanced refinement may move a particle's per-axis factor from its one-pass
 /// value, either way. Where three axis-aligned factors cannot balance a neighbourhood (the
 /// corners of a sector meshed in radial layers, whose faces lie at angles to the axes; thin
-/// tet meshes), the unbounded iteration runs away: factors of 1e±25, bonds 1,000 times their
-/// stiffness, energies up to 16 times the bulk value (measured on the corpus). Bounded, those
+/// tet meshes), the unbounded iteration runs away: factors of 1e±25 and beyond, bonds 1,400
+/// times their stiffness, energies up to 16 times the bulk value (measured on the validation's
+/// sphere sector and on the corpus). Bounded, those
 /// axes stop and the rest converge. Thin bodies need factors far from their first values
 /// (a hex beam two elements across converges only beyond 64): 1,000 leaves every mesh of the
 /// corpus with no more unbalanced particles than unbounded, and the validation figures
