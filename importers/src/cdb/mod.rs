@@ -573,8 +573,17 @@ impl<'p> Reader<'p> {
         let Some((no, line)) = cur.peek() else {
             return Err(self.err(cur.eof_line(), what(), "end of file"));
         };
-        if row(line) != Row::Data {
-            return Err(self.err(no, what(), describe_found(line)));
+        match row(line) {
+            Row::Data => {}
+            // A record whose continuation fields are all missing (midside nodes 0) can be
+            // written as an empty line; it reads as a continuation with no fields, as a
+            // partly filled one does (mapdl-archive reads it so too).
+            Row::Blank => {
+                cur.next();
+                self.fields.clear();
+                return Ok(no);
+            }
+            _ => return Err(self.err(no, what(), describe_found(line))),
         }
         cur.next();
         let mut f = std::mem::take(&mut self.fields);
@@ -915,6 +924,7 @@ impl<'p> Reader<'p> {
                 "one column",
             ));
         }
+        let mut warned_unaligned = false;
         loop {
             let Some((no, line)) = cur.peek() else {
                 return Ok(());
@@ -928,6 +938,29 @@ impl<'p> Reader<'p> {
                 Row::Data => {}
             }
             cur.next();
+            // Some writers (mapdl-archive's `use_etblock`) separate the integers by single
+            // blanks under a `(2i9,...)` format line. Integers cannot run together the way
+            // NBLOCK's reals do, so a row whose columns fail but whose blank-separated tokens
+            // are all integers is read by its tokens.
+            let in_columns = (0..2).all(|k| int_field(cols[k].slice(line)).is_some());
+            if !in_columns {
+                let tokens: Option<Vec<i64>> = line
+                    .split(|b| b.is_ascii_whitespace() || *b == b',')
+                    .filter(|t| !t.is_empty())
+                    .map(int_trimmed)
+                    .collect();
+                if let Some(t) = tokens.filter(|t| t.len() >= 2) {
+                    if !warned_unaligned {
+                        warned_unaligned = true;
+                        self.warnings.push(format!(
+                            "line {no}: ETBLOCK rows are not in the columns of their format \
+                             (line {fno}); read as blank-separated integers"
+                        ));
+                    }
+                    self.define_type(t[0], Some(t[1]), t.get(2).copied().unwrap_or(0));
+                    continue;
+                }
+            }
             let int_at = |k: usize| -> Result<i64, ImportError> {
                 let f = cols[k].slice(line);
                 int_field(f).ok_or_else(|| {

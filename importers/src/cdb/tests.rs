@@ -813,3 +813,34 @@ fn comments_quotes_and_unreadable_et() {
         m.warnings
     );
 }
+
+#[test]
+fn etblock_rows_separated_by_single_blanks() {
+    // mapdl-archive's `use_etblock` writes the integers one blank apart under `(2i9,19a9)`.
+    let mut s = String::from("ETBLOCK,1,0\n(2i9,19a9)\n        1 185 0 0 0 0\n-1\n");
+    s += &nblock(&cube_nodes());
+    s += &eblock(&[(1, 1, &[1, 2, 3, 4, 5, 6, 7, 8])]);
+    let m = ok(&s);
+    assert_eq!(m.element_kinds, vec![ElementKind::Hex8]);
+    assert!(
+        m.warnings
+            .iter()
+            .any(|w| w.contains("ETBLOCK rows are not in the columns")),
+        "{:?}",
+        m.warnings
+    );
+    // A row that is neither in columns nor integers is still an error.
+    let e = err("ETBLOCK,1,0\n(2i9,19a9)\n        1 SOLID185\n-1\n");
+    assert_eq!(line_of(&e), 3);
+}
+
+#[test]
+fn empty_continuation_line_means_no_midside_nodes() {
+    let mut s = String::from("ET,1,186\n");
+    s += &nblock(&cube_nodes());
+    s += "EBLOCK,19,SOLID\n(19i8)\n";
+    s += "       1       1       1       1       0       0       0       0      20       0       1       1       2       3       4       5       6       7       8\n\n      -1\n";
+    let m = ok(&s);
+    assert_eq!(m.element_kinds, vec![ElementKind::Hex8]);
+    assert_eq!(m.element_count(), 1);
+}

@@ -41,8 +41,14 @@ pub(super) struct Keyword {
 
 impl Keyword {
     /// The parameter `name` (upper case), if present.
+    /// An abbreviation of three or more letters matches too (`TYP=` for `TYPE=`): Abaqus
+    /// accepts unambiguous abbreviations (FORMATS.md §3.1).
     pub fn param(&self, name: &str) -> Option<&Param> {
-        self.params.iter().find(|p| p.name == name)
+        self.params.iter().find(|p| p.name == name).or_else(|| {
+            self.params.iter().find(|p| {
+                p.name.len() >= 3 && p.name.len() < name.len() && name.starts_with(&p.name)
+            })
+        })
     }
 
     /// The value of parameter `name`; `None` when absent or given without `=`.

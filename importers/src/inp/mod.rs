@@ -689,6 +689,10 @@ impl Reader {
                 return Ok(None);
             }
         };
+        let mut kw = kw;
+        if let Some(full) = self.expand_abbreviation(&kw.name, file, line)? {
+            kw.name = full.to_string();
+        }
         if kw.name == "INCLUDE" {
             // The included lines stand in place of this line: the current block goes on.
             let target = self.required(&kw, "INPUT", file, line, text)?;
@@ -731,6 +735,54 @@ impl Reader {
             }
         }
         Ok(None)
+    }
+
+    /// The keyword this reader acts on that `name` abbreviates, if it is one: Abaqus accepts
+    /// unambiguous abbreviations (FORMATS.md §3.1), such as `*ELEM` for `*ELEMENT`. An
+    /// abbreviation of one of them that could also stand for another Abaqus keyword (`*NOD`:
+    /// `*NODE` or `*NODAL THICKNESS`) is an error rather than a guess, since skipping it would
+    /// drop its data.
+    fn expand_abbreviation(
+        &mut self,
+        name: &str,
+        file: u32,
+        line: usize,
+    ) -> Result<Option<&'static str>, ImportError> {
+        if name.len() < 3 || ACTED_ON.contains(&name) {
+            return Ok(None);
+        }
+        // (written form, blanks removed)
+        let mut candidates: Vec<(&str, String)> = ACTED_ON
+            .iter()
+            .chain(LOOK_ALIKES.iter())
+            .map(|k| (*k, k.replace(' ', "")))
+            .filter(|(_, k)| k.starts_with(name))
+            .collect();
+        let Some(&(first, _)) = candidates.first() else {
+            return Ok(None);
+        };
+        if !ACTED_ON.contains(&first) {
+            return Ok(None);
+        }
+        // `*ELEM` also begins `*ELEMENT OUTPUT` and the like, which begin with `*ELEMENT`.
+        candidates.retain(|(_, k)| !(k.starts_with(first) && k != first));
+        if candidates.len() > 1 {
+            let names: Vec<String> = candidates.iter().map(|(k, _)| format!("*{k}")).collect();
+            return Err(self.err(
+                file,
+                line,
+                format!("a keyword written out in full ({})", names.join(" or ")),
+                format!("*{name}, an abbreviation of more than one keyword"),
+            ));
+        }
+        let full = first;
+        let shown = if file == 0 {
+            format!("line {line}")
+        } else {
+            format!("{}:{line}", self.files[file as usize].display())
+        };
+        self.warn(format!("{shown}: *{name} read as *{full}"));
+        Ok(Some(full))
     }
 
     /// Ends the current data block before a keyword line: an unfinished element record is an
@@ -2076,6 +2128,47 @@ impl Reader {
         Ok(mesh)
     }
 }
+
+/// Keywords this reader acts on (reads, or refuses as unsupported).
+const ACTED_ON: [&str; 18] = [
+    "NODE",
+    "ELEMENT",
+    "NSET",
+    "ELSET",
+    "PART",
+    "ENDPART",
+    "ASSEMBLY",
+    "ENDASSEMBLY",
+    "INSTANCE",
+    "ENDINSTANCE",
+    "SYSTEM",
+    "INCLUDE",
+    "NGEN",
+    "NFILL",
+    "NCOPY",
+    "NMAP",
+    "ELGEN",
+    "ELCOPY",
+];
+
+/// Other Abaqus keywords that begin with the same three or more letters as one in
+/// [`ACTED_ON`]: an abbreviation (blanks removed) that begins one of these is ambiguous.
+const LOOK_ALIKES: [&str; 14] = [
+    "NODAL THICKNESS",
+    "NODAL ENERGY RATE",
+    "NODE OUTPUT",
+    "NODE PRINT",
+    "NODE FILE",
+    "ELEMENT OUTPUT",
+    "ELEMENT PROPERTIES",
+    "ELECTRICAL CONDUCTIVITY",
+    "PARAMETER",
+    "ASSEMBLED FASTENER",
+    "INCIDENT WAVE",
+    "INCREMENTATION OUTPUT",
+    "END STEP",
+    "END LOAD CASE",
+];
 
 /// Keywords whose keyword lines must parse (others are skipped even when malformed).
 const MODELLED: [&str; 12] = [

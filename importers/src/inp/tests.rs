@@ -829,3 +829,25 @@ fn million_node_throughput() {
     );
     assert_eq!(m.node_count(), (n + 1) * (n + 1) * (nz + 1));
 }
+
+#[test]
+fn abbreviated_keywords_and_parameters() {
+    let m = ok("*NODE\n1,0,0,0\n2,1,0,0\n3,0,1,0\n4,0,0,1\n*ELEM, TYP=C3D4, ELS=Solid\n1, 1, 2, 3, 4\n*NSE, NSE=Base\n1, 2, 3\n");
+    assert_eq!(m.element_count(), 1);
+    assert_eq!(count(set(&m, "Solid")), 1);
+    assert_eq!(count(set(&m, "Base")), 3);
+    assert!(
+        m.warnings
+            .iter()
+            .any(|w| w.contains("*ELEM read as *ELEMENT")),
+        "{:?}",
+        m.warnings
+    );
+    // *NOD could be *NODE or *NODAL THICKNESS: refused, not skipped with its nodes.
+    let e = fail("*NOD\n1,0,0,0\n");
+    assert_eq!(line_of(&e), 1);
+    assert!(e.to_string().contains("*NODAL THICKNESS"), "{e}");
+    // Keywords written out in full that merely begin like ours are not touched.
+    let m = ok("*NODE\n1,0,0,0\n*NODE OUTPUT\nU\n*ELEMENT OUTPUT\nS\n");
+    assert_eq!(m.node_count(), 1);
+}

@@ -126,12 +126,23 @@ enum Version {
     V41,
 }
 
+impl std::fmt::Display for Version {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Version::V2 => "2",
+            Version::V41 => "4.1",
+        })
+    }
+}
+
 /// Reading state shared by the section readers.
 pub(crate) struct Ctx<'a> {
     pub data: &'a [u8],
     pub enc: Enc,
     /// Offset from which errors are given as bytes (binary files).
     binary_from: Option<usize>,
+    /// Mesh sections read so far: name and the byte range of the body.
+    mesh_sections: Vec<(Vec<u8>, usize, usize)>,
     version: Option<Version>,
     pub mesh: Mesh,
     pub index: Option<NodeIndex>,
@@ -154,6 +165,7 @@ impl<'a> Ctx<'a> {
             data,
             enc: Enc::Ascii,
             binary_from: None,
+            mesh_sections: Vec::new(),
             version: None,
             mesh: Mesh::new(),
             index: None,
@@ -201,7 +213,17 @@ impl<'a> Ctx<'a> {
                         format!("'${shown}' without its opening section"),
                     ))
                 }
-                b"PhysicalNames" => self.physical_names(body)?,
+                b"PhysicalNames"
+                | b"Entities"
+                | b"PartitionedEntities"
+                | b"Nodes"
+                | b"Elements"
+                | b"ParametricNodes"
+                    if self.is_identical_repeat(name, at, body)? =>
+                {
+                    skip_section(data, at, body, &name_str)?
+                }
+                b"PhysicalNames" => self.record_section(name, body, Self::physical_names)?,
                 b"Entities"
                 | b"PartitionedEntities"
                 | b"Nodes"
@@ -214,7 +236,9 @@ impl<'a> Ctx<'a> {
                             format!("${shown}"),
                         ));
                     };
-                    self.data_section(version, name, at, body)?
+                    self.record_section(name, body, |cx, body| {
+                        cx.data_section(version, name, at, body)
+                    })?
                 }
                 _ => {
                     if self.version.is_some()
@@ -244,10 +268,50 @@ impl<'a> Ctx<'a> {
         Ok(())
     }
 
+    /// Reads a mesh section with `read` and remembers where its bytes lie.
+    fn record_section(
+        &mut self,
+        name: &[u8],
+        body: usize,
+        read: impl FnOnce(&mut Self, usize) -> Res<usize>,
+    ) -> Res<usize> {
+        let end = read(self, body)?;
+        self.mesh_sections.push((name.to_vec(), body, end));
+        Ok(end)
+    }
+
+    /// True when this mesh section repeats, byte for byte, one already read: gmsh writes the
+    /// whole mesh again, after a second `$MeshFormat`, before each block of post-processing
+    /// data it appends (`gmsh.view.write(..., append=True)`). A repeat that differs is read,
+    /// and its section reader refuses it.
+    fn is_identical_repeat(&self, name: &[u8], at: usize, body: usize) -> Res<bool> {
+        let Some(&(_, first, first_end)) = self.mesh_sections.iter().find(|(n, ..)| n == name)
+        else {
+            return Ok(false);
+        };
+        let end = skip_section(self.data, at, body, &String::from_utf8_lossy(name))?;
+        Ok(self.data[body..end] == self.data[first..first_end])
+    }
+
+    /// `$MeshFormat`. A second one is accepted with the same version: gmsh writes one before
+    /// each block of post-processing data it appends to a mesh file (`$NodeData` after
+    /// `gmsh.view.write(..., append=True)`); its file type applies to the sections after it.
     fn mesh_format(&mut self, at: usize, body: usize) -> Res<usize> {
-        if self.version.is_some() {
-            return Err(fail(at, "one $MeshFormat section", "a second one"));
+        let first = self.version;
+        let end = self.read_mesh_format(body)?;
+        if let (Some(first), Some(now)) = (first, self.version) {
+            if first != now {
+                return Err(fail(
+                    at,
+                    format!("a second $MeshFormat of the first one's version ({first})"),
+                    format!("version {now}"),
+                ));
+            }
         }
+        Ok(end)
+    }
+
+    fn read_mesh_format(&mut self, body: usize) -> Res<usize> {
         let data = self.data;
         let mut cur = Cur::new(data, body, Enc::Ascii);
         let line_at = cur.token_start();
@@ -291,7 +355,8 @@ impl<'a> Ctx<'a> {
                     ));
                 }
                 let check = cur.p;
-                self.binary_from = Some(check);
+                // Positions past the first binary data are reported as byte offsets.
+                self.binary_from.get_or_insert(check);
                 let big = match data.get(check..check + 4) {
                     Some([1, 0, 0, 0]) => false,
                     Some([0, 0, 0, 1]) => true,

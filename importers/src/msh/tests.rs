@@ -893,3 +893,33 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn mesh_repeated_before_appended_view_data() {
+    // gmsh.view.write(..., append=True) writes $MeshFormat and the whole mesh again, then the
+    // view's $NodeData.
+    let mesh = MSH41
+        .split_once("$EndMeshFormat\n")
+        .map_or("", |(_, rest)| rest);
+    let first = ok(MSH41.as_bytes());
+    let text = format!(
+        "{MSH41}$MeshFormat\n4.1 0 8\n$EndMeshFormat\n{mesh}$NodeData\n1\n\"v\"\n$EndNodeData\n"
+    );
+    let m = ok(text.as_bytes());
+    assert_eq!(m.node_count(), first.node_count());
+    assert_eq!(m.element_count(), first.element_count());
+    assert_eq!(sets(&m), sets(&first));
+    // A second $MeshFormat with only data after it.
+    let m = ok(format!(
+        "{MSH41}$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$NodeData\n1\n\"v\"\n$EndNodeData\n"
+    )
+    .as_bytes());
+    assert_eq!(m.node_count(), first.node_count());
+    // A second mesh that differs is refused, as is another version.
+    let other = mesh.replacen("0 0 1 1 1 1 0.5 0.5 0.5", "0 0 2 1 1 1 0.5 0.5 0.5", 1);
+    assert_ne!(other, mesh);
+    let e = err(format!("{MSH41}$MeshFormat\n4.1 0 8\n$EndMeshFormat\n{other}").as_bytes());
+    assert!(e.to_string().contains("second"), "{e}");
+    let e = err(format!("{MSH41}$MeshFormat\n2.2 0 8\n$EndMeshFormat\n").as_bytes());
+    assert!(e.to_string().contains("version 2"), "{e}");
+}
