@@ -18,6 +18,8 @@
 //!   master's corner, and a slave keeps the segment it touches while it stays in it). The gap is
 //!   `g = (x_s − x_c(r,t)) · n_m` (Eq. 21); a slave is in contact when `g < 0` and `−g` is within
 //!   the window 0.5Δ. A slave behind a segment by more than the window is a missed contact.
+//!   A slave that projects outside every segment because it lies behind a concave edge or
+//!   vertex of a deformed master (a dent) is held there ([`select_across_edge`]).
 //! * **force** ([`ContactLaw`]): `F = K δ^{3/2}` along `n_m` on the slave with
 //!   `K = 4/(3(m_s + m_m)) √R`, `m = (1 − ν²)/E`, `m = 0` for a rigid body, `R = Δ/2` by
 //!   default (Eqs. 22-24); the reaction goes to the master's corner nodes with the weights
@@ -187,6 +189,13 @@ pub struct Projection {
 /// Projects a slave point on a (deformed) segment with corners `x` (`x[2] == x[3]` for a
 /// triangle). `None` when the projection falls outside the segment.
 pub fn project(slave: Vec3, x: [Vec3; 4], triangle: bool) -> Option<Projection> {
+    project_any(slave, x, triangle).and_then(|(pr, outside)| (outside == 0.0).then_some(pr))
+}
+
+/// [`project`], but a projection that falls outside the segment is moved onto its boundary
+/// (`(r, t)` clamped to the square, or the nearest point of the triangle's edges); the second
+/// value is how far outside, in the segment's plane (0 inside).
+pub fn project_any(slave: Vec3, x: [Vec3; 4], triangle: bool) -> Option<(Projection, f64)> {
     // Eq. 18: e3 from the diagonals; (x2 − x0) × (x3 − x1) points out for outward winding.
     let e3 = (x[2] - x[0]).cross(&(x[3] - x[1]));
     let norm = e3.norm();
@@ -208,14 +217,39 @@ pub fn project(slave: Vec3, x: [Vec3; 4], triangle: bool) -> Option<Projection> 
         let l3 = 1.0 - l1 - l2;
         let tol = -INSIDE_TOLERANCE;
         if l1 < tol || l2 < tol || l3 < tol {
-            return None;
+            // The nearest point on the edges, as barycentric weights.
+            let mut best = (f64::INFINITY, [0.0; 3]);
+            for (u, v, iu, iv) in [(a, b, 0, 1), (b, c, 1, 2), (c, a, 2, 0)] {
+                let e = v - u;
+                let s = ((p - u).dot(&e) / e.norm_squared()).clamp(0.0, 1.0);
+                let d = (p - (u + e * s)).norm();
+                if d < best.0 {
+                    let mut w = [0.0; 3];
+                    w[iu] = 1.0 - s;
+                    w[iv] = s;
+                    best = (d, w);
+                }
+            }
+            let [w1, w2, w3] = best.1;
+            let xc = a * w1 + b * w2 + c * w3;
+            return Some((
+                Projection {
+                    weights: [w1, w2, w3, 0.0],
+                    normal: e3,
+                    gap: (slave - xc).dot(&e3),
+                },
+                best.0.max(f64::MIN_POSITIVE),
+            ));
         }
         let xc = a * l1 + b * l2 + c * l3;
-        return Some(Projection {
-            weights: [l1, l2, l3, 0.0],
-            normal: e3,
-            gap: (slave - xc).dot(&e3),
-        });
+        return Some((
+            Projection {
+                weights: [l1, l2, l3, 0.0],
+                normal: e3,
+                gap: (slave - xc).dot(&e3),
+            },
+            0.0,
+        ));
     }
     let r21 = x[1] - x[0];
     let e1 = r21 - e3 * r21.dot(&e3);
@@ -278,20 +312,93 @@ pub fn project(slave: Vec3, x: [Vec3; 4], triangle: bool) -> Option<Projection> 
         return None;
     }
     let lim = 1.0 + INSIDE_TOLERANCE;
-    if r.abs() > lim || t.abs() > lim {
-        return None;
-    }
+    let inside = r.abs() <= lim && t.abs() <= lim;
+    let (r, t) = if inside {
+        (r, t)
+    } else {
+        (r.clamp(-1.0, 1.0), t.clamp(-1.0, 1.0))
+    };
     let mut weights = [0.0; 4];
     let mut xc = Vec3::zeros();
     for k in 0..4 {
         weights[k] = 0.25 * (1.0 + RI[k] * r) * (1.0 + TI[k] * t);
         xc += x[k] * weights[k];
     }
-    Some(Projection {
-        weights,
-        normal: e3,
-        gap: (slave - xc).dot(&e3),
-    })
+    let outside = if inside {
+        0.0
+    } else {
+        let c = to2(xc);
+        ((q[0] - c[0]).powi(2) + (q[1] - c[1]).powi(2))
+            .sqrt()
+            .max(f64::MIN_POSITIVE)
+    };
+    Some((
+        Projection {
+            weights,
+            normal: e3,
+            gap: (slave - xc).dot(&e3),
+        },
+        outside,
+    ))
+}
+
+/// A slave behind a concave master edge or vertex (the dimple a deformable master takes
+/// under load) projects outside every segment it is pressed into: along each segment's own
+/// normal it lands beyond the shared edge, by its penetration times the tangent of the angle
+/// between the segments. Without this rule it touches nothing and sinks through the master
+/// (measured: a sphere on a deformable block whose pole lay over a block node never
+/// converged). So when no segment holds the slave, the facing segment it falls outside by
+/// no more than its penetration holds it at the nearest boundary point, provided the slave
+/// is also behind every facing or edge-on segment that shares that edge or vertex; in front
+/// of one of them, the edge is convex and the slave is outside the master. The force there
+/// acts along the mean normal of the facing segments that share the edge or vertex (a slave
+/// over the bottom vertex of a symmetric dimple is pushed straight out, not sideways by
+/// whichever segment it picked), and the gap is measured along it.
+pub fn select_across_edge(
+    slave: Vec3,
+    candidates: impl Iterator<Item = (u32, Projection, f64)> + Clone,
+    segment: impl Fn(u32) -> ([u32; 4], [Vec3; 4]),
+    normal: impl FnOnce() -> Vec3,
+    window: f64,
+) -> Option<(u32, Projection)> {
+    let n_s = normal();
+    let mut best: Option<(u32, Projection, f64)> = None;
+    for (seg, pr, outside) in candidates.clone() {
+        if outside > 0.0
+            && n_s.dot(&pr.normal) < -FACING
+            && within_window(&pr, window)
+            && outside <= -pr.gap
+            && best.as_ref().is_none_or(|(_, b, o)| {
+                outside < *o || (outside == *o && pr.gap.abs() < b.gap.abs())
+            })
+        {
+            best = Some((seg, pr, outside));
+        }
+    }
+    let (seg, mut pr, _) = best?;
+    let (own, x) = segment(seg);
+    let support: Vec<u32> = (0..4)
+        .filter(|&k| pr.weights[k] > 1e-12)
+        .map(|k| own[k])
+        .collect();
+    let mut mean = Vec3::zeros();
+    for (other, q, _) in candidates {
+        if !segment(other).0.iter().any(|n| support.contains(n)) {
+            continue;
+        }
+        let facing = n_s.dot(&q.normal);
+        if facing < EDGE_FACING && q.gap >= 0.0 {
+            return None;
+        }
+        if facing < -FACING {
+            mean += q.normal;
+        }
+    }
+    let n = mean.try_normalize(0.0)?;
+    let xc: Vec3 = (0..4).map(|k| x[k] * pr.weights[k]).sum();
+    pr.normal = n;
+    pr.gap = (slave - xc).dot(&n);
+    within_window(&pr, window).then_some((seg, pr))
 }
 
 /// A read-only view of a master surface: node positions and segments.
@@ -634,7 +741,26 @@ impl ContactPass {
                 match select_segment(candidates, || slave_normal(sb, s as usize), window) {
                     Touch::Contact(seg, pr) => contact(s, seg, pr),
                     Touch::Missed => (None, true),
-                    Touch::Clear => (None, false),
+                    Touch::Clear => {
+                        let all = self.verlet.candidates[a..b].iter().filter_map(|&seg| {
+                            project_any(
+                                p,
+                                view.corners(seg as usize),
+                                segs[seg as usize].is_triangle(),
+                            )
+                            .map(|(pr, outside)| (seg, pr, outside))
+                        });
+                        match select_across_edge(
+                            p,
+                            all,
+                            |seg| (segs[seg as usize].nodes, view.corners(seg as usize)),
+                            || slave_normal(sb, s as usize),
+                            window,
+                        ) {
+                            Some((seg, pr)) => contact(s, seg, pr),
+                            None => (None, false),
+                        }
+                    }
                 }
             })
             .collect();
@@ -770,6 +896,75 @@ mod tests {
             at_punch_corner(Vec3::new(0.5, 0.5, 0.01), -up),
             Touch::Clear
         );
+    }
+
+    /// Two unit quads meeting on the line x = 0 (nodes 1, 2 shared), each tilted by `slope`:
+    /// a valley (concave) for a positive slope, a ridge (convex) for a negative one.
+    fn fold(slope: f64) -> [([u32; 4], [Vec3; 4]); 2] {
+        let z = |x: f64| slope * x.abs();
+        let p = |x: f64, y: f64| Vec3::new(x, y, z(x));
+        [
+            (
+                [0, 1, 2, 3],
+                [p(-1.0, 0.0), p(0.0, 0.0), p(0.0, 1.0), p(-1.0, 1.0)],
+            ),
+            (
+                [1, 4, 5, 2],
+                [p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.0, 1.0)],
+            ),
+        ]
+    }
+
+    fn across(slave: Vec3, slope: f64) -> Option<(u32, Projection)> {
+        let f = fold(slope);
+        let all: Vec<(u32, Projection, f64)> = f
+            .iter()
+            .enumerate()
+            .filter_map(|(k, (_, x))| project_any(slave, *x, false).map(|(p, o)| (k as u32, p, o)))
+            .collect();
+        select_across_edge(
+            slave,
+            all.into_iter(),
+            |k| f[k as usize],
+            || -Vec3::z(),
+            0.5,
+        )
+    }
+
+    #[test]
+    fn slave_under_a_valley_line_is_held_along_the_mean_normal() {
+        // Neither quad holds it: along each one's normal it lands beyond the shared edge.
+        let slave = Vec3::new(0.0, 0.5, -0.05);
+        let f = fold(0.2);
+        assert!(f.iter().all(|(_, x)| project(slave, *x, false).is_none()));
+        let (_, pr) = across(slave, 0.2).expect("held");
+        assert!((pr.normal - Vec3::z()).norm() < 1e-12, "{:?}", pr.normal);
+        assert!((pr.gap + 0.05).abs() < 1e-12, "{}", pr.gap);
+        // The reaction goes to the shared edge's nodes.
+        assert!(pr.weights[0].abs() < 1e-12 || pr.weights[1].abs() < 1e-12);
+        // Deeper than the window, or beyond the edge by more than its depth: not held.
+        assert!(across(Vec3::new(0.0, 0.5, -0.6), 0.2).is_none());
+        assert!(across(Vec3::new(0.3, 0.5, 0.05), 0.2).is_none());
+    }
+
+    #[test]
+    fn slave_beside_a_ridge_is_not_held() {
+        // Behind the left face's plane, and beyond its edge by less than that depth, but in
+        // front of the right face: outside the master.
+        let slave = Vec3::new(0.01, 0.5, 0.0);
+        assert!(across(slave, -2.0).is_none());
+        // The left face alone would hold it: the right face is what tells the edge is convex.
+        let f = fold(-2.0);
+        let left = project_any(slave, f[0].1, false).map(|(p, o)| (0u32, p, o));
+        assert!(left.is_some_and(|(_, p, o)| o > 0.0 && o <= -p.gap));
+        assert!(select_across_edge(
+            slave,
+            left.into_iter(),
+            |k| f[k as usize],
+            || -Vec3::z(),
+            0.5
+        )
+        .is_some());
     }
 
     #[test]
