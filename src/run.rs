@@ -53,7 +53,8 @@ pub struct RunSummary {
     pub contact_pairs: usize,
     pub missed_contacts: usize,
     /// Force exerted through contact by rigid bodies on deformable bodies (for scenes without
-    /// rigid bodies: on the slave bodies), N.
+    /// rigid bodies: on the slave body of each contact pair, through both passes of a two-pass
+    /// pair), N.
     pub total_contact_force: [f64; 3],
     /// Sum of the applied loads, N.
     pub applied_load: [f64; 3],
@@ -112,8 +113,18 @@ pub fn force_balance(model: &Model) -> (Vec3, Vec3, f64) {
         }
     }
     if !has_rigid {
-        for p in &model.passes {
-            contact += p.contacts.iter().map(|c| c.force).sum::<Vec3>();
+        for (k, p) in model.passes.iter().enumerate() {
+            let on_slaves = p.contacts.iter().map(|c| c.force).sum::<Vec3>();
+            // The second pass of a two-pass pair pushes the pair's master: on the pair's
+            // slave body it acts through its reactions, the opposite of its slave forces.
+            let mirrored = model.passes[..k]
+                .iter()
+                .any(|q| q.slave == p.master && q.master == p.slave);
+            if mirrored {
+                contact -= on_slaves;
+            } else {
+                contact += on_slaves;
+            }
         }
         for p in &model.short_range {
             contact += p.slave_force;

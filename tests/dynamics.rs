@@ -269,6 +269,20 @@ force = [0.0, 0.0, -1e5]
 slave = "ball"
 master = "block"
 "#;
+    // Two passes: the summary's contact force is still the force on the slave body.
+    // (The ball held laterally: with two passes the block's slaves push on its curved
+    // surface, and a frictionless ball under a dead load has no lateral stiffness.)
+    let two = format!(
+        "{text}two_pass = true\n[[constraint]]\nbody = \"ball\"\nset = \"ball\"\nfix = [\"x\", \"y\"]\n"
+    );
+    let scene = Scene::parse(&two, "dent2.toml", &dir).expect("scene");
+    let (_, summary) = run_scene(&scene, &quiet(&dir)).expect("runs");
+    assert!(summary.converged, "residual {}", summary.residual);
+    assert!(
+        (summary.total_contact_force[2] / 1e5 - 1.0).abs() < 2e-3,
+        "two passes: {:?}",
+        summary.total_contact_force
+    );
     let scene = Scene::parse(text, "dent.toml", &dir).expect("scene");
     let (model, summary) = run_scene(&scene, &quiet(&dir)).expect("runs");
     assert!(summary.converged, "residual {}", summary.residual);
