@@ -238,6 +238,19 @@ impl PdCase {
 
         // Drop the pairs that only the surface kernel needed.
         let bonds = trim_bonds(bonds, (horizon + 0.5 * spacing) * (1.0 + 1e-9));
+        // A spacing far below the mesh's own leaves particles without partners: such a body has
+        // no stiffness and the first step divides by zero.
+        let lonely = (0..bonds.particles())
+            .filter(|&i| bonds.range(i).is_empty())
+            .count();
+        if particles.len() > 1 && 2 * lonely > particles.len() {
+            return Err(Error::input(format!(
+                "{lonely} of {} particles have no bond: the horizon δ = {:.4e} (spacing {spacing:.4e} × horizon factor {}) is shorter than the distance between the mesh's nodes; give a spacing near the mesh's element size, or none to use its median edge",
+                particles.len(),
+                horizon,
+                options.horizon_factor
+            )));
+        }
 
         let t = Instant::now();
         let source: Vec<usize> = (0..position.len())

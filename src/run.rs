@@ -223,6 +223,11 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
             (s, Some(e))
         }
         Ok(s) => (s, None),
+        // Input the solver refuses is the scene's: name it.
+        Err(Error::Input(m)) => (
+            RunStats::default(),
+            Some(Error::input(format!("{}: {m}", scene.source))),
+        ),
         Err(e) => (RunStats::default(), Some(e)),
     };
     let (contact, applied, balance) = force_balance(&model);

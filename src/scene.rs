@@ -446,6 +446,82 @@ impl Scene {
                     }
                 }
             }
+            // Vectors: finite, and directions not zero.
+            let mut vectors: Vec<(&str, [f64; 3], bool)> = Vec::new();
+            for (what, v) in [
+                ("translate", b.translate),
+                ("velocity", b.velocity),
+                ("motion_velocity", b.motion_velocity),
+            ] {
+                if let Some(v) = v {
+                    vectors.push((what, v, false));
+                }
+            }
+            if let Some(a) = b.free_axis {
+                vectors.push(("free_axis", a, true));
+            }
+            if let Some(r) = &b.rotate {
+                vectors.push(("axis", r.axis, true));
+                if let Some(c) = r.center {
+                    vectors.push(("center", c, false));
+                }
+                if !r.angle_deg.is_finite() {
+                    return Err(err(
+                        "angle_deg",
+                        format!(
+                            "body \"{}\": rotate angle_deg must be finite, got {}",
+                            b.name, r.angle_deg
+                        ),
+                    ));
+                }
+            }
+            if let Some(g) = &b.generator {
+                for (what, v, dir) in [
+                    ("point", g.point, false),
+                    ("normal", g.normal, true),
+                    ("center", g.center, false),
+                ] {
+                    if let Some(v) = v {
+                        vectors.push((what, v, dir));
+                    }
+                }
+            }
+            for (what, v, direction) in vectors {
+                if v.iter().any(|x| !x.is_finite()) {
+                    return Err(err(
+                        what,
+                        format!(
+                            "body \"{}\": {what} must be three finite numbers, got {v:?}",
+                            b.name
+                        ),
+                    ));
+                }
+                if direction && v.iter().all(|&x| x == 0.0) {
+                    return Err(err(
+                        what,
+                        format!(
+                            "body \"{}\": {what} is a direction and cannot be [0, 0, 0]",
+                            b.name
+                        ),
+                    ));
+                }
+            }
+            if let Some(m) = b.horizon_factor {
+                if m < 1.0 {
+                    return Err(err(
+                        "horizon_factor",
+                        format!("body \"{}\": horizon_factor must be at least 1 (a horizon shorter than the spacing holds no bonds), got {m}", b.name),
+                    ));
+                }
+            }
+            if let Some(m) = b.mass {
+                if !(m > 0.0 && m.is_finite()) {
+                    return Err(err(
+                        "mass",
+                        format!("body \"{}\": mass must be positive, got {m}", b.name),
+                    ));
+                }
+            }
             if b.kind == BodyKind::Rigid {
                 match b.motion {
                     Motion::Velocity if b.motion_velocity.is_none() => {
@@ -520,6 +596,14 @@ impl Scene {
         for c in &self.contacts {
             let s = body(&c.slave, &format!("slave = \"{}\"", c.slave))?;
             body(&c.master, &format!("master = \"{}\"", c.master))?;
+            if let Some(r) = c.radius {
+                if !(r > 0.0 && r.is_finite()) {
+                    return Err(err(
+                        "radius",
+                        format!("contact radius (the Hertz penalty's R) must be positive, got {r}"),
+                    ));
+                }
+            }
             if c.slave == c.master {
                 return Err(err(
                     &format!("slave = \"{}\"", c.slave),
@@ -574,8 +658,17 @@ impl Scene {
                 }
             }
             SolverKind::Explicit => {
-                if self.solver.end_time.is_none() {
-                    return Err(err("kind", "an explicit solver needs end_time".to_string()));
+                match self.solver.end_time {
+                    None => {
+                        return Err(err("kind", "an explicit solver needs end_time".to_string()))
+                    }
+                    Some(t) if !(t > 0.0 && t.is_finite()) => {
+                        return Err(err(
+                            "end_time",
+                            format!("end_time must be positive, got {t}"),
+                        ))
+                    }
+                    _ => {}
                 }
                 if let Some(dt) = self.solver.dt {
                     if !(dt > 0.0 && dt.is_finite()) {

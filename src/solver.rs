@@ -268,6 +268,17 @@ pub fn adr(
     load_steps: usize,
     monitor: &mut dyn Monitor,
 ) -> Result<RunStats> {
+    // Without a load or a moving body the equilibrium is the reference state: there is
+    // nothing to iterate for, and no force to measure the residual against.
+    let driven = model.bodies.iter().any(|b| match b {
+        Body::Rigid(rb) => rb.motion == Motion::Velocity && rb.velocity.norm() > 0.0,
+        Body::Deformable(_) => false,
+    });
+    if !driven && !(applied_norm(model) > 0.0) {
+        return Err(Error::input(
+            "nothing loads the model: an ADR (static) run needs a [[load]] with a non-zero force on a body part that is free to move, or a rigid body with motion = \"velocity\"".to_string(),
+        ));
+    }
     let density = bond_density(model);
     let mut stats = RunStats {
         solver: "adr".into(),

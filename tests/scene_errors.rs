@@ -327,3 +327,77 @@ fn inverted_element_is_named() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn numbers_that_cannot_be_used() {
+    for (case, from, to, at, what) in [
+        (
+            "radius-zero",
+            "radius = 0.5",
+            "radius = 0.0",
+            "radius = 0.0",
+            "must be positive",
+        ),
+        (
+            "radius-nan",
+            "radius = 0.5",
+            "radius = nan",
+            "radius = nan",
+            "must be positive",
+        ),
+        (
+            "plane-normal-zero",
+            "normal = [0.0, 0.0, 1.0]",
+            "normal = [0.0, 0.0, 0.0]",
+            "normal",
+            "cannot be [0, 0, 0]",
+        ),
+        (
+            "plane-point-inf",
+            "point = [0.0, 0.0, -0.01]",
+            "point = [0.0, 0.0, inf]",
+            "point",
+            "finite",
+        ),
+        (
+            "translate-nan",
+            "name = \"block\"",
+            "name = \"block\"\ntranslate = [nan, 0.0, 0.0]",
+            "translate",
+            "finite",
+        ),
+    ] {
+        let text = GOOD.replace(from, to);
+        assert_ne!(text, GOOD, "{case}");
+        assert_error(case, &text, at, &[what]);
+    }
+    let text = GOOD.replace("name = \"block\"", "name = \"block\"\nhorizon_factor = 0.5");
+    assert_error(
+        "horizon-below-one",
+        &text,
+        "horizon_factor",
+        &["at least 1"],
+    );
+    let text = GOOD.replace(
+        "kind = \"adr\"\nmax_iterations = 20000",
+        "kind = \"explicit\"\nend_time = 0.0",
+    );
+    assert_error(
+        "end-time-zero",
+        &text,
+        "end_time",
+        &["end_time must be positive"],
+    );
+}
+
+#[test]
+fn spacing_with_no_bonds_and_a_scene_without_load() {
+    let text = GOOD.replace("spacing = 0.25 }", "spacing = 0.25 }\nspacing = 1e-4");
+    let (path, line) = error_of("no-bonds", &text);
+    assert!(line.contains(&path), "{line}");
+    assert!(line.contains("have no bond"), "{line}");
+    let text = GOOD.replace("force = [0.0, 0.0, -1e5]", "force = [0.0, 0.0, 0.0]");
+    let (path, line) = error_of("no-load", &text);
+    assert!(line.contains(&path), "{line}");
+    assert!(line.contains("nothing loads the model"), "{line}");
+}
