@@ -191,6 +191,9 @@ pub struct RunMonitor {
     bar: ProgressBar,
     label: &'static str,
     stop: Arc<AtomicBool>,
+    /// The last step reported: number, (pseudo-)time and measure (residual or energy drift),
+    /// so that a run that fails can still say how far it got.
+    pub last_step: (usize, f64, f64),
 }
 
 impl RunMonitor {
@@ -216,12 +219,14 @@ impl RunMonitor {
             bar,
             label: if adr { "residual" } else { "energy drift" },
             stop,
+            last_step: (0, 0.0, 0.0),
         }
     }
 }
 
 impl Monitor for RunMonitor {
     fn step(&mut self, model: &Model, step: usize, time: f64, measure: f64) -> Result<()> {
+        self.last_step = (step, time, measure);
         if step.is_multiple_of(50) {
             self.bar.set_message(format!(
                 "step {step}  {} {measure:.3e}  contacts {}  Verlet rebuilds {}",

@@ -228,7 +228,20 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
             RunStats::default(),
             Some(Error::input(format!("{}: {m}", scene.source))),
         ),
-        Err(e) => (RunStats::default(), Some(e)),
+        // A numerical failure: the summary still says how far the run got.
+        Err(e) => {
+            let (step, time, measure) = monitor.last_step;
+            let adr = scene.solver.kind == SolverKind::Adr;
+            let stats = RunStats {
+                solver: if adr { "adr" } else { "explicit" }.into(),
+                iterations: step,
+                time,
+                residual: if adr { measure } else { 0.0 },
+                energy_drift: if adr { 0.0 } else { measure },
+                ..RunStats::default()
+            };
+            (stats, Some(e))
+        }
     };
     let (contact, applied, balance) = force_balance(&model);
     let (radius, peak) = patch_figures(&model);
