@@ -130,7 +130,10 @@ pub fn convert(
     let start = Instant::now();
     let mesh = read_path(mesh_path, format)?;
     let import = start.elapsed().as_secs_f64();
-    let case = PdCase::build(mesh, options)?;
+    let case = PdCase::build(mesh, options).map_err(|e| match e {
+        Error::Input(msg) => Error::input(format!("{}: {msg}", mesh_path.display())),
+        other => other,
+    })?;
     std::fs::create_dir_all(out).map_err(|e| Error::output(out, e))?;
     let t = Instant::now();
     write_case_files(&case, mesh_path, out)?;
