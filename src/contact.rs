@@ -357,17 +357,20 @@ pub fn project_any(slave: Vec3, x: [Vec3; 4], triangle: bool) -> Option<(Project
 pub fn select_across_edge(
     slave: Vec3,
     candidates: impl Iterator<Item = (u32, Projection, f64)> + Clone,
-    segment: impl Fn(u32) -> ([u32; 4], [Vec3; 4]),
+    nodes: impl Fn(u32) -> [u32; 4],
+    corners: impl Fn(u32) -> [Vec3; 4],
     normal: impl FnOnce() -> Vec3,
     window: f64,
 ) -> Option<(u32, Projection)> {
-    let n_s = normal();
+    // Most slaves touch nothing: the slave's normal (a pass over its bonds) is computed only
+    // for one that is behind a segment it projects outside of.
+    let n_s = std::cell::LazyCell::new(normal);
     let mut best: Option<(u32, Projection, f64)> = None;
     for (seg, pr, outside) in candidates.clone() {
         if outside > 0.0
-            && n_s.dot(&pr.normal) < -FACING
             && within_window(&pr, window)
             && outside <= -pr.gap
+            && n_s.dot(&pr.normal) < -FACING
             && best.as_ref().is_none_or(|(_, b, o)| {
                 outside < *o || (outside == *o && pr.gap.abs() < b.gap.abs())
             })
@@ -376,14 +379,14 @@ pub fn select_across_edge(
         }
     }
     let (seg, mut pr, _) = best?;
-    let (own, x) = segment(seg);
+    let own = nodes(seg);
     let support: Vec<u32> = (0..4)
         .filter(|&k| pr.weights[k] > 1e-12)
         .map(|k| own[k])
         .collect();
     let mut mean = Vec3::zeros();
     for (other, q, _) in candidates {
-        if !segment(other).0.iter().any(|n| support.contains(n)) {
+        if !nodes(other).iter().any(|n| support.contains(n)) {
             continue;
         }
         let facing = n_s.dot(&q.normal);
@@ -395,6 +398,7 @@ pub fn select_across_edge(
         }
     }
     let n = mean.try_normalize(0.0)?;
+    let x = corners(seg);
     let xc: Vec3 = (0..4).map(|k| x[k] * pr.weights[k]).sum();
     pr.normal = n;
     pr.gap = (slave - xc).dot(&n);
@@ -706,7 +710,7 @@ impl ContactPass {
         };
         let results: Vec<(Option<ContactPoint>, bool)> = (0..self.slaves.len())
             .into_par_iter()
-            .map(|k| {
+            .map_init(Vec::new, |projections, k| {
                 let s = self.slaves[k];
                 let p = sb.position(s as usize);
                 let (a, b) = (
@@ -730,37 +734,36 @@ impl ContactPass {
                 if let Some(pr) = kept {
                     return contact(s, held, pr);
                 }
-                let candidates = self.verlet.candidates[a..b].iter().filter_map(|&seg| {
-                    project(
+                // Each candidate is projected once: the inside projections choose the segment,
+                // and all of them serve the rule for concave edges when none does.
+                projections.clear();
+                projections.extend(self.verlet.candidates[a..b].iter().filter_map(|&seg| {
+                    project_any(
                         p,
                         view.corners(seg as usize),
                         segs[seg as usize].is_triangle(),
                     )
-                    .map(|pr| (seg, pr))
-                });
-                match select_segment(candidates, || slave_normal(sb, s as usize), window) {
+                    .map(|(pr, outside)| (seg, pr, outside))
+                }));
+                let normal = std::cell::LazyCell::new(|| slave_normal(sb, s as usize));
+                let inside = projections
+                    .iter()
+                    .filter(|c| c.2 == 0.0)
+                    .map(|&(seg, pr, _)| (seg, pr));
+                match select_segment(inside, || *normal, window) {
                     Touch::Contact(seg, pr) => contact(s, seg, pr),
                     Touch::Missed => (None, true),
-                    Touch::Clear => {
-                        let all = self.verlet.candidates[a..b].iter().filter_map(|&seg| {
-                            project_any(
-                                p,
-                                view.corners(seg as usize),
-                                segs[seg as usize].is_triangle(),
-                            )
-                            .map(|(pr, outside)| (seg, pr, outside))
-                        });
-                        match select_across_edge(
-                            p,
-                            all,
-                            |seg| (segs[seg as usize].nodes, view.corners(seg as usize)),
-                            || slave_normal(sb, s as usize),
-                            window,
-                        ) {
-                            Some((seg, pr)) => contact(s, seg, pr),
-                            None => (None, false),
-                        }
-                    }
+                    Touch::Clear => match select_across_edge(
+                        p,
+                        projections.iter().copied(),
+                        |seg| segs[seg as usize].nodes,
+                        |seg| view.corners(seg as usize),
+                        || *normal,
+                        window,
+                    ) {
+                        Some((seg, pr)) => contact(s, seg, pr),
+                        None => (None, false),
+                    },
                 }
             })
             .collect();
@@ -925,7 +928,8 @@ mod tests {
         select_across_edge(
             slave,
             all.into_iter(),
-            |k| f[k as usize],
+            |k| f[k as usize].0,
+            |k| f[k as usize].1,
             || -Vec3::z(),
             0.5,
         )
@@ -960,7 +964,8 @@ mod tests {
         assert!(select_across_edge(
             slave,
             left.into_iter(),
-            |k| f[k as usize],
+            |k| f[k as usize].0,
+            |k| f[k as usize].1,
             || -Vec3::z(),
             0.5
         )
