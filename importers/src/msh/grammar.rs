@@ -15,7 +15,7 @@ use nom::error::{context, ContextError, ErrorKind, ParseError};
 use nom::number::Endianness;
 use nom::{IResult, Parser};
 
-use super::lex::{is_ws, parse_f64, parse_i64, parse_u64};
+use super::num::{is_ws, parse_f64, parse_i64, parse_u64};
 
 /// How the numbers of a section are encoded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -52,11 +52,13 @@
 //!
 //! Nodes and element records are read by the small tokenizer of `lex.rs`; the grammar around
 //! them (section lines, headers, counts, entities, names) by the nom parsers of `grammar.rs`.
+//! Both take their number conversions from `num.rs`, so `lex.rs` uses `grammar.rs` and not back.
 //! Node tags are resolved with [`NodeIndex`] while the elements are read, so no tag array is
 //! kept for the elements.
 
 mod grammar;
 mod lex;
+mod num;
 mod types;
 mod v2;
 mod v4;
@@ -317,7 +319,7 @@ impl<'a> Ctx<'a> {
         let line_at = cur.token_start();
         let (version, file_type, data_size) =
             cur.run(grammar::mesh_format, "a $MeshFormat line")?;
-        let v = lex::parse_f64(version).unwrap_or(f64::NAN);
+        let v = num::parse_f64(version).unwrap_or(f64::NAN);
         let same = |x: f64| (v - x).abs() < 1e-9;
         let shown = String::from_utf8_lossy(version).into_owned();
         let version = if same(2.0) || same(2.1) || same(2.2) {
@@ -663,7 +665,7 @@ fn skip_section(data: &[u8], at: usize, body: usize, name: &str) -> Res<usize> {
         let at_line_start = start == 0 || data[start - 1] == b'\n';
         let ends = match data.get(after) {
             None => true,
-            Some(&b) => lex::is_ws(b),
+            Some(&b) => num::is_ws(b),
         };
         if at_line_start && ends {
             let mut p = after;
@@ -740,7 +742,7 @@ pub(crate) fn node_of(index: &NodeIndex, tag: u64, cur: &Cur<'_>, at: usize) -> 
 fn undefined_node(tag: u64, cur: &Cur<'_>, at: usize) -> Box<Fail> {
     let mut s = at;
     if !cur.enc.is_binary() {
-        while s < cur.d.len() && lex::is_ws(cur.d[s]) {
+        while s < cur.d.len() && num::is_ws(cur.d[s]) {
             s += 1;
         }
     }

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use proptest::prelude::*;
 
-use super::lex::parse_f64;
+use super::num::parse_f64;
 use super::read;
 use crate::error::{ImportError, Location};
 use crate::mesh::{ElementKind, Mesh, SetKind};
