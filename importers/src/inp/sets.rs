@@ -1,8 +1,16 @@
 //! Set members while the deck is read (labels and GENERATE ranges per unit) and their
 //! resolution to mesh indices at the end.
 
-use super::{element_index, node_index, Unit};
+use super::units::{element_index, node_index, Unit};
 use crate::mesh::{Mesh, MISSING_NODE};
+
+/// A named set while the deck is read.
+#[derive(Debug)]
+pub(super) struct SetAcc {
+    pub(super) name: String,
+    pub(super) elem: bool,
+    pub(super) chunks: Vec<Chunk>,
+}
 
 /// Members of a set being read, by label in a unit.
 #[derive(Clone, Debug)]

@@ -1,6 +1,7 @@
 //! Tests of the INP reader on small inline decks, plus the shared corpus when it is present.
 
 use super::*;
+use crate::mesh::{ElementKind, NamedSet, SetKind, MISSING_NODE};
 use crate::summary::MeshSummary;
 use crate::Format;
 
