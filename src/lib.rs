@@ -23,31 +23,18 @@
 
 pub use pdcontact_importers as importers;
 
-pub mod analysis;
-pub mod bench;
 pub mod body;
 pub mod case;
 pub mod contact;
 pub mod convert;
-pub mod correction;
-pub mod demo;
-pub mod discretize;
 pub mod error;
-pub mod generators;
+pub mod math;
 pub mod model;
-pub mod neighbours;
 pub mod output;
-pub mod pairs;
 pub mod reduction;
 pub mod run;
 pub mod scene;
-pub mod segments;
-pub mod shortrange;
 pub mod solver;
-pub mod stability;
-pub mod surface;
-pub mod sweep;
-pub mod validate;
-pub mod vtk;
+pub mod studies;
 
 pub use error::{Error, Result};

@@ -132,7 +132,7 @@ enum Command {
         #[arg(long)]
         spacing: Option<f64>,
         /// Horizon factor m (δ = m·Δ); 3.0002 keeps bonds of length exactly 3Δ in.
-        #[arg(long, default_value_t = pdcontact::bench::DEFAULT_HORIZON_FACTOR)]
+        #[arg(long, default_value_t = pdcontact::studies::bench::DEFAULT_HORIZON_FACTOR)]
         horizon_factor: f64,
         /// Time steps (or, with --adr, passes and iterations) to time.
         #[arg(long, default_value_t = 200)]
@@ -222,7 +222,7 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             let options = CaseOptions {
                 spacing,
                 horizon_factor,
-                correction: pdcontact::correction::CorrectionMethod::Balanced,
+                correction: pdcontact::case::correction::CorrectionMethod::Balanced,
                 symmetry: Vec::new(),
             };
             let (_, summary) = pdcontact::convert::convert(&mesh, format, &output, options)?;
@@ -244,7 +244,7 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
                 quiet,
                 stop: Some(stop_flag()),
             };
-            let report = pdcontact::demo::run_demo(&output, &options)?;
+            let report = pdcontact::studies::demo::run_demo(&output, &options)?;
             if json {
                 println!("{}", to_json(&report));
             } else {
@@ -261,17 +261,17 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             quiet,
         } => {
             let selection = match study {
-                Some(s) => pdcontact::validate::run_study(
-                    pdcontact::validate::Study::parse(&s)?,
+                Some(s) => pdcontact::studies::validate::run_study(
+                    pdcontact::studies::validate::Study::parse(&s)?,
                     &output,
                     quiet,
                 )?,
-                None => pdcontact::validate::run_selection(&case, &set, &output, quiet)?,
+                None => pdcontact::studies::validate::run_selection(&case, &set, &output, quiet)?,
             };
             if json {
                 println!("{}", to_json(&selection.rows));
             } else {
-                print!("{}", pdcontact::validate::table(&selection.rows));
+                print!("{}", pdcontact::studies::validate::table(&selection.rows));
             }
             for f in &selection.failures {
                 eprintln!("error: {f}");
@@ -294,11 +294,11 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             stability,
         } => {
             if stability {
-                let runs = pdcontact::stability::run_stability(&output, quiet)?;
+                let runs = pdcontact::studies::stability::run_stability(&output, quiet)?;
                 if json {
                     println!("{}", to_json(&runs));
                 } else {
-                    print!("{}", pdcontact::stability::table(&runs));
+                    print!("{}", pdcontact::studies::stability::table(&runs));
                 }
                 return Ok(Outcome::Done);
             }
@@ -312,12 +312,15 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
                     "sweep: --set takes hertz, got \"{set}\""
                 )));
             }
-            let runs =
-                pdcontact::sweep::run_sweep(pdcontact::sweep::sphere_grid(), &output, quiet)?;
+            let runs = pdcontact::studies::sweep::run_sweep(
+                pdcontact::studies::sweep::sphere_grid(),
+                &output,
+                quiet,
+            )?;
             if json {
                 println!("{}", to_json(&runs));
             } else {
-                print!("{}", pdcontact::sweep::table(&runs));
+                print!("{}", pdcontact::studies::sweep::table(&runs));
             }
             Ok(Outcome::Done)
         }
@@ -333,7 +336,7 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
         } => {
             if let Some(scene) = adr {
                 let scene = pdcontact::scene::Scene::load(&scene)?;
-                let report = pdcontact::bench::run_adr(&scene, steps, threads)?;
+                let report = pdcontact::studies::bench::run_adr(&scene, steps, threads)?;
                 if json {
                     println!("{}", to_json(&report));
                 } else {
@@ -344,14 +347,16 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             if let Some(mesh) = pipeline {
                 let options = pdcontact::case::CaseOptions {
                     spacing,
-                    horizon_factor: if horizon_factor == pdcontact::bench::DEFAULT_HORIZON_FACTOR {
+                    horizon_factor: if horizon_factor
+                        == pdcontact::studies::bench::DEFAULT_HORIZON_FACTOR
+                    {
                         pdcontact::case::DEFAULT_HORIZON_FACTOR
                     } else {
                         horizon_factor
                     },
                     ..Default::default()
                 };
-                let report = pdcontact::bench::run_pipeline(&mesh, options, threads)?;
+                let report = pdcontact::studies::bench::run_pipeline(&mesh, options, threads)?;
                 if json {
                     println!("{}", to_json(&report));
                 } else {
@@ -364,13 +369,13 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
                     "bench needs --lattice-sphere DX or --adr SCENE",
                 ));
             };
-            let spec = pdcontact::bench::LatticeSphere {
+            let spec = pdcontact::studies::bench::LatticeSphere {
                 spacing: lattice_sphere,
                 horizon_factor,
                 steps,
                 threads,
             };
-            let report = pdcontact::bench::run_lattice_sphere(&spec)?;
+            let report = pdcontact::studies::bench::run_lattice_sphere(&spec)?;
             if json {
                 println!("{}", to_json(&report));
             } else {

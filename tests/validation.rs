@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use pdcontact::validate::{
+use pdcontact::studies::validate::{
     hertz_punch_case, hertz_roller_case, hertz_sphere_case, punch_at, run_case, sphere_cap_case,
     ValidationRow, STIFF_PENALTY,
 };
@@ -21,7 +21,7 @@ fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
-fn run(case: pdcontact::validate::ValidationCase, name: &str) -> ValidationRow {
+fn run(case: pdcontact::studies::validate::ValidationCase, name: &str) -> ValidationRow {
     let dir = temp_dir(name);
     let rows = run_case(&case, &dir, true).expect("validation case runs");
     let row = rows.into_iter().next().expect("one row");

@@ -25,13 +25,15 @@
 //!   default (Eqs. 22-24); the reaction goes to the master's corner nodes with the weights
 //!   `N_i(r,t)`, or to the rigid body.
 
+pub mod shortrange;
+
 use rayon::prelude::*;
 
 use crate::body::{Body, PdBody, RigidBody};
-use crate::discretize::Vec3;
-use crate::neighbours::CellGrid;
+use crate::case::neighbours::CellGrid;
+use crate::case::segments::MasterSegment;
+use crate::math::Vec3;
 use crate::scene::{Kinematics, PenaltyLaw};
-use crate::segments::MasterSegment;
 
 /// Skin of the Verlet list, in slave spacings.
 pub const SKIN: f64 = 0.3;

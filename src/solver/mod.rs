@@ -19,8 +19,8 @@
 use rayon::prelude::*;
 
 use crate::body::{Body, FIX_X, FIX_Y, FIX_Z};
-use crate::discretize::Vec3;
 use crate::error::{Error, Result};
+use crate::math::Vec3;
 use crate::model::Model;
 use crate::reduction::ordered_reduce;
 use crate::scene::{Motion, SolverKind, SolverSpec};

@@ -24,15 +24,15 @@ use std::time::Instant;
 use plotters::prelude::*;
 use serde::Serialize;
 
-use crate::analysis::{
+use crate::error::{Error, Result};
+use crate::math::Vec3;
+use crate::output::analysis::{
     contact_patch, e_star_rigid, elliptic_accuracy, hertz_cylinder, hertz_sphere, punch_accuracy,
     Accuracy, ContactPatch,
 };
-use crate::discretize::Vec3;
-use crate::error::{Error, Result};
+use crate::output::vtk::write_atomically;
 use crate::run::{run_scene, RunOptions};
 use crate::scene::Scene;
-use crate::vtk::write_atomically;
 
 /// Young's modulus, Poisson's ratio and density of every validation body.
 pub const YOUNGS: f64 = 1.0e9;
@@ -896,9 +896,9 @@ pub fn run_selection(case: &str, set: &str, folder: &Path, quiet: bool) -> Resul
     };
     std::fs::create_dir_all(folder).map_err(|e| Error::output(folder, e))?;
     // The paper sphere runs on the stored gmsh mesh, written next to its run.
-    let mesh = folder.join(crate::demo::SPHERE_MESH_NAME);
+    let mesh = folder.join(crate::studies::demo::SPHERE_MESH_NAME);
     write_atomically(&mesh, |w| {
-        std::io::Write::write_all(w, crate::demo::SPHERE_MESH)
+        std::io::Write::write_all(w, crate::studies::demo::SPHERE_MESH)
     })?;
     let mesh = std::fs::canonicalize(&mesh).unwrap_or(mesh);
     let mut rows = Vec::new();

@@ -1,5 +1,5 @@
 //! `pdcontact sweep --case sphere`: speed against accuracy over a grid of spacings, horizons,
-//! contact methods and solvers, on the Hertz sphere of [`crate::validate`].
+//! contact methods and solvers, on the Hertz sphere of [`crate::studies::validate`].
 //!
 //! The sphere has a/R = 0.3 (the convergence studies' sphere, [`STUDY_CONTACT_RADIUS`]): at
 //! a/R = 0.15 the same a/Δ costs eight times the particles, and the grid would not run in
@@ -23,11 +23,11 @@ use plotters::prelude::*;
 use serde::Serialize;
 
 use crate::error::{Error, Result};
-use crate::validate::{
+use crate::output::vtk::write_atomically;
+use crate::studies::validate::{
     run_case, sphere_cap_case, sphere_on_block_case, ValidationCase, ADR_SOLVER, STIFF_PENALTY,
     STUDY_CONTACT_RADIUS, STUDY_DAMPING, STUDY_END_TIME,
 };
-use crate::vtk::write_atomically;
 
 /// CalculiX's figures for the Hertz sphere at a/R = 0.3 (the sweep's sphere), as measured on
 /// this machine by `tools/fe_reference.sh --contact-radius 0.3` and tabulated in
@@ -122,7 +122,7 @@ pub fn sphere_grid() -> Vec<SweepPoint> {
                         m,
                         &block,
                         "method = \"short-range\"",
-                        crate::shortrange::DISTANCE * dx,
+                        crate::contact::shortrange::DISTANCE * dx,
                         &format!("short-range-block-{tag}"),
                     ),
                 });

@@ -10,14 +10,14 @@
 use nalgebra::{Rotation3, Unit};
 use pdcontact_importers::{boundary_faces, read_path, ElementKind, Format, Mesh};
 
+use crate::case::correction::{micromodulus, CorrectionMethod};
+use crate::case::generators;
+use crate::case::pairs::{ForceBuffers, PairList};
+use crate::case::segments::{quad_area_normal, MasterSegment};
 use crate::case::{CaseOptions, PdCase, SymmetryPlane, DEFAULT_HORIZON_FACTOR};
-use crate::correction::{micromodulus, CorrectionMethod};
-use crate::discretize::{Vec3, NOT_A_PARTICLE};
 use crate::error::{Error, Result};
-use crate::generators;
-use crate::pairs::{ForceBuffers, PairList};
+use crate::math::{Vec3, NOT_A_PARTICLE};
 use crate::scene::{BodyKind, BodySpec, Kinematics, Motion, Scene};
-use crate::segments::{quad_area_normal, MasterSegment};
 
 /// Linear elastic material.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -6,12 +6,12 @@
 use rayon::prelude::*;
 
 use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
+use crate::case::pairs::{pair_forces, PairKinematics};
+use crate::contact::shortrange::ShortRangePass;
 use crate::contact::{hertz_stiffness, ContactLaw, ContactPass, WINDOW};
-use crate::discretize::{Vec3, NOT_A_PARTICLE};
 use crate::error::Result;
-use crate::pairs::{pair_forces, PairKinematics};
+use crate::math::{Vec3, NOT_A_PARTICLE};
 use crate::scene::{BodyKind, ContactMethod, Kinematics, Scene};
-use crate::shortrange::ShortRangePass;
 
 /// Bodies and contact passes of a scene.
 #[derive(Clone, Debug)]

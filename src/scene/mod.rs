@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::correction::CorrectionMethod;
+use crate::case::correction::CorrectionMethod;
 use crate::error::{Error, Result};
 
 /// The whole scene file.
@@ -323,7 +323,7 @@ pub enum ContactMethod {
     #[serde(alias = "point_to_surface")]
     PointToSurface,
     /// Node-to-node repulsion of PD codes (EMU, LAMMPS); the master must be deformable
-    /// ([`crate::shortrange`]).
+    /// ([`crate::contact::shortrange`]).
     #[serde(alias = "short_range")]
     ShortRange,
 }

@@ -1,5 +1,5 @@
 //! `pdcontact sweep --stability`: where the explicit solver and the contact methods stop
-//! working, on coarse spheres (Δ = 0.12 m, a/R = 0.3, the scenes of [`crate::sweep`]).
+//! working, on coarse spheres (Δ = 0.12 m, a/R = 0.3, the scenes of [`crate::studies::sweep`]).
 //!
 //! Three parameters, mapped two at a time, each map through the defaults of the third
 //! (dt = 0.8 of the stable estimate, the solver's default; the paper's penalty; a static load):
@@ -31,17 +31,17 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use serde::{Deserialize, Serialize};
 
-use crate::analysis::{contact_patch, elliptic_accuracy, hertz_sphere};
 use crate::body::{Body, FIX_X, FIX_Y, FIX_Z};
 use crate::error::{Error, Result};
 use crate::model::Model;
+use crate::output::analysis::{contact_patch, elliptic_accuracy, hertz_sphere};
+use crate::output::vtk::write_atomically;
 use crate::scene::{ContactMethod, Scene};
 use crate::solver::{solve, stable_time_step, Monitor, DEFAULT_SAFETY};
-use crate::validate::{
+use crate::studies::validate::{
     sphere_cap_case, sphere_on_block_case, Reference, ValidationCase, STUDY_CONTACT_RADIUS,
     STUDY_DAMPING, STUDY_END_TIME,
 };
-use crate::vtk::write_atomically;
 
 /// Spacing of the stability scenes (m).
 pub const SPACING: f64 = 0.12;
@@ -337,7 +337,7 @@ pub fn case(p: &RunPoint, sphere_spacing: f64) -> ValidationCase {
     let label = p.label();
     let mut case = match p.method {
         ContactMethod::ShortRange => {
-            let d = crate::shortrange::DISTANCE;
+            let d = crate::contact::shortrange::DISTANCE;
             let lift = match p.loading {
                 Loading::Static => d * SPACING,
                 Loading::Impact(_) => d * sphere_spacing,
