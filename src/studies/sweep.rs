@@ -24,8 +24,10 @@ use serde::Serialize;
 
 use crate::error::{Error, Result};
 use crate::output::vtk::write_atomically;
-use crate::studies::validate::{
-    run_case, sphere_cap_case, sphere_on_block_case, ValidationCase, ADR_SOLVER, STIFF_PENALTY,
+use crate::studies::chart::write_svg;
+use crate::studies::comparison::run_case;
+use crate::studies::scenarios::{
+    sphere_cap_case, sphere_on_block_case, ValidationCase, ADR_SOLVER, STIFF_PENALTY,
     STUDY_CONTACT_RADIUS, STUDY_DAMPING, STUDY_END_TIME,
 };
 
@@ -258,12 +260,8 @@ fn write_chart(path: &Path, runs: &[SweepRun]) -> Result<()> {
     ys.extend(FE_POINTS.iter().map(|p| 100.0 * p.1));
     let (xmin, xmax) = bounds(&xs);
     let (ymin, ymax) = bounds(&ys);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (960, 640)).into_drawing_area();
-        let draw = |e: &dyn std::fmt::Display| Error::output(path, e.to_string());
-        root.fill(&WHITE).map_err(|e| draw(&e))?;
-        let mut chart = ChartBuilder::on(&root)
+    write_svg(path, (960, 640), |root, draw| {
+        let mut chart = ChartBuilder::on(root)
             .caption(
                 format!("Hertz sphere, a/R = {STUDY_CONTACT_RADIUS}: MRE against wall time"),
                 ("sans-serif", 18),
@@ -327,9 +325,8 @@ fn write_chart(path: &Path, runs: &[SweepRun]) -> Result<()> {
             .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(|e| draw(&e))?;
-        root.present().map_err(|e| draw(&e))?;
-    }
-    write_atomically(path, |w| std::io::Write::write_all(w, svg.as_bytes()))
+        Ok(())
+    })
 }
 
 /// A log axis range around the values.
