@@ -7,7 +7,7 @@
 //! | step | module |
 //! |---|---|
 //! | built-in hex8 shapes (meshes made in memory) | [`generators`] |
-//! | particles, volumes, spacing | [`discretize`] |
+//! | particles, volumes, spacing | [`discretize`](mod@discretize) |
 //! | cell lists, bond families | [`neighbours`] |
 //! | the bond-force pass, each pair once | [`pairs`] |
 //! | volume and surface correction | [`correction`] |

@@ -34,9 +34,10 @@ pub const DENSITY: f64 = 1000.0;
 pub const DT: f64 = 1e-5;
 /// Initial velocity `v = RATE · x` (a uniform expansion), 1/s.
 pub const RATE: f64 = 0.1;
-/// The horizon factor LAMMPS's examples use: 3 with a margin, so that bonds of length exactly
-/// 3Δ are inside the horizon whatever the rounding.
-pub const DEFAULT_HORIZON_FACTOR: f64 = 3.0002;
+/// The horizon factor LAMMPS's examples use on a lattice: 3 with a margin, so that bonds of
+/// length exactly 3Δ are inside the horizon whatever the rounding. A mesh's particles are not
+/// on a lattice: their default is [`crate::case::DEFAULT_HORIZON_FACTOR`] (3).
+pub const LATTICE_HORIZON_FACTOR: f64 = 3.0002;
 /// Particles per parallel work item.
 const CHUNK: usize = 256;
 /// Largest lattice accepted (partner indices are 32-bit).
@@ -296,7 +297,7 @@ mod tests {
     fn energy_is_conserved() {
         let spec = LatticeSphere {
             spacing: 0.2,
-            horizon_factor: DEFAULT_HORIZON_FACTOR,
+            horizon_factor: LATTICE_HORIZON_FACTOR,
             steps: 50,
             threads: Some(2),
         };

@@ -8,7 +8,7 @@
 //! | `pdcontact validate`: the scenes against theory, the convergence studies | [`validate`] |
 //! | `pdcontact sweep`: speed against accuracy | [`sweep`] |
 //! | `pdcontact sweep --stability`: where the solvers and contact methods stop working | [`stability`] |
-//! | `pdcontact bench`: the kernels and stages timed | [`bench`] |
+//! | `pdcontact bench`: the kernels and stages timed | [`bench`](mod@bench) |
 //! | the SVG charts they draw | [`chart`] |
 
 pub mod bench;

@@ -52,29 +52,13 @@ pub fn table(rows: &[ValidationRow]) -> String {
     s
 }
 
-/// Parses `--case` and `--set`, runs the selection into `folder`, and returns the rows.
-pub fn run_selection(case: &str, set: &str, folder: &Path, quiet: bool) -> Result<Selection> {
-    let problems = match case {
-        "sphere" => vec![Problem::Sphere],
-        "roller" => vec![Problem::Roller],
-        "punch" => vec![Problem::Punch],
-        "all" => vec![Problem::Sphere, Problem::Roller, Problem::Punch],
-        other => {
-            return Err(Error::input(format!(
-                "--case takes sphere, roller, punch or all, got \"{other}\""
-            )))
-        }
-    };
-    let sets = match set {
-        "paper" => vec![Set::Paper],
-        "hertz" => vec![Set::Hertz],
-        "all" => vec![Set::Hertz, Set::Paper],
-        other => {
-            return Err(Error::input(format!(
-                "--set takes paper, hertz or all, got \"{other}\""
-            )))
-        }
-    };
+/// Runs the problems of the sets into `folder`, and returns the rows.
+pub fn run_selection(
+    problems: &[Problem],
+    sets: &[Set],
+    folder: &Path,
+    quiet: bool,
+) -> Result<Selection> {
     std::fs::create_dir_all(folder).map_err(|e| Error::output(folder, e))?;
     // The paper sphere runs on the stored gmsh mesh, written next to its run.
     let mesh = folder.join(SPHERE_MESH_NAME);
@@ -82,7 +66,7 @@ pub fn run_selection(case: &str, set: &str, folder: &Path, quiet: bool) -> Resul
     let mesh = std::fs::canonicalize(&mesh).unwrap_or(mesh);
     let mut rows = Vec::new();
     let mut failures = Vec::new();
-    for c in cases(&problems, &sets, &mesh) {
+    for c in cases(problems, sets, &mesh) {
         if !quiet {
             eprintln!(
                 "{} ({} set): Δ = {:.4} m, m = {} ...",
@@ -121,17 +105,6 @@ pub enum Study {
 }
 
 impl Study {
-    pub fn parse(s: &str) -> Result<Study> {
-        match s {
-            "spacing" => Ok(Study::Spacing),
-            "horizon" => Ok(Study::Horizon),
-            "timestep" => Ok(Study::Timestep),
-            other => Err(Error::input(format!(
-                "--study takes spacing, horizon or timestep, got \"{other}\""
-            ))),
-        }
-    }
-
     pub fn name(self) -> &'static str {
         match self {
             Study::Spacing => "spacing",
