@@ -1,8 +1,11 @@
-//! The frame the studies' SVG charts share: a white canvas of the given size, drawn into a
-//! string by plotters and written atomically, with plotters' errors named by the file.
+//! What the studies' SVG charts share: a white canvas of the given size, drawn into a string
+//! by plotters and written atomically, with plotters' errors named by the file; and the legend
+//! box.
 
 use std::path::Path;
 
+use plotters::chart::SeriesLabelStyle;
+use plotters::coord::CoordTranslate;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -30,4 +33,14 @@ pub fn write_svg(
         root.present().map_err(|e| error(&e))?;
     }
     write_atomically(path, |w| std::io::Write::write_all(w, svg.as_bytes()))
+}
+
+/// A chart's legend box: white, 80 % opaque, with a black border (position and draw to the
+/// caller).
+pub fn legend<'a, 'b, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &'b mut ChartContext<'a, DB, CT>,
+) -> SeriesLabelStyle<'a, 'b, DB, CT> {
+    let mut style = chart.configure_series_labels();
+    style.background_style(WHITE.mix(0.8)).border_style(BLACK);
+    style
 }

@@ -16,7 +16,7 @@ use crate::output::analysis::{
 use crate::output::vtk::write_atomically;
 use crate::run::{run_scene, RunOptions};
 use crate::scene::Scene;
-use crate::studies::chart::write_svg;
+use crate::studies::chart::{legend, write_svg};
 use crate::studies::scenarios::{Problem, Reference, ValidationCase};
 
 /// One line of the table (a run compared with one variant of its reference).
@@ -210,12 +210,7 @@ fn write_chart(
             .map_err(|e| draw(&e))?
             .label("particles")
             .legend(|(x, y)| Circle::new((x + 10, y), 3, RED.filled()));
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|e| draw(&e))?;
+        legend(&mut chart).draw().map_err(|e| draw(&e))?;
         Ok(())
     })
 }

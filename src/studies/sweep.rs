@@ -24,7 +24,7 @@ use serde::Serialize;
 
 use crate::error::{Error, Result};
 use crate::output::vtk::write_atomically;
-use crate::studies::chart::write_svg;
+use crate::studies::chart::{legend, write_svg};
 use crate::studies::comparison::run_case;
 use crate::studies::scenarios::{
     sphere_cap_case, sphere_on_block_case, ValidationCase, ADR_SOLVER, STIFF_PENALTY,
@@ -318,10 +318,7 @@ fn write_chart(path: &Path, runs: &[SweepRun]) -> Result<()> {
             .map_err(|e| draw(&e))?
             .label("Pareto front of the PD runs")
             .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK));
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
+        legend(&mut chart)
             .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(|e| draw(&e))?;

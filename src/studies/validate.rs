@@ -13,7 +13,7 @@ use plotters::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::output::vtk::write_atomically;
-use crate::studies::chart::write_svg;
+use crate::studies::chart::{legend, write_svg};
 use crate::studies::comparison::{run_case, ValidationRow};
 use crate::studies::scenarios::*;
 
@@ -302,12 +302,7 @@ fn write_study_chart(path: &Path, study: Study, points: &[(&str, f64, f64)]) -> 
                 .map_err(|e| draw(&e))?;
         }
         if names.len() > 1 {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| draw(&e))?;
+            legend(&mut chart).draw().map_err(|e| draw(&e))?;
         }
         Ok(())
     })
