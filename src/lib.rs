@@ -21,6 +21,13 @@
 //! contact passes, and a contact pass works on bodies. `src/main.rs` is the command line, a
 //! thin shell over [`run`], [`convert`] and the studies.
 //!
+//! The later stages read the scene's plain enums ([`Kinematics`](scene::Kinematics),
+//! [`Motion`](scene::Motion), [`PenaltyLaw`](scene::PenaltyLaw),
+//! [`ContactMethod`](scene::ContactMethod)) and the solver its
+//! [`SolverSpec`](scene::SolverSpec) as the schema defines them: they are names and numbers
+//! with no file logic, and a model copy of each would be a second definition of the same
+//! values. The body builder, the model and the run are where a scene is read.
+//!
 //! "Case" names three things: a PD case ([`case::PdCase`]: one mesh as particles, bonds and
 //! segments, what `pdcontact convert` writes as `case.toml`), a validation case
 //! ([`ValidationCase`](studies::scenarios::ValidationCase): one validation scene and its
