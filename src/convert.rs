@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use crate::case::{CaseOptions, PdCase};
 use crate::error::{Error, Result};
-use crate::vtk::{write_atomically, write_vtu, CellSpec, Field};
+use crate::output::vtk::{write_atomically, write_vtu, CellSpec, Field};
 
 /// Seconds spent per stage.
 #[derive(Clone, Copy, Debug, Default, Serialize)]

@@ -1,21 +1,38 @@
 //! pdcontact: peridynamic point-to-surface contact from finite-element meshes.
 //!
-//! The modules follow the data's path (METHOD.md §1):
+//! The modules follow the data's path (METHOD.md §1), one folder per stage; a stage uses only
+//! the stages above it in this table (the studies use the library's public API):
 //!
-//! | stage | module |
-//! |---|---|
-//! | mesh files → [`Mesh`](importers::Mesh) | [`importers`] (crate `pdcontact-importers`) |
-//! | built-in hex8 shapes | [`generators`] |
-//! | particles, volumes, spacing | [`discretize`] |
-//! | cell lists, bond families | [`neighbours`] |
-//! | the bond-force pass, each pair once | [`pairs`] |
-//! | volume and surface correction | [`correction`] |
-//! | eigenvalue surface detection | [`surface`] |
-//! | master segments, tributary areas | [`segments`] |
-//! | the assembled PD case | [`case`] |
-//! | VTK output | [`vtk`] |
-//! | `convert` | [`convert`] |
-//! | `bench`: the bond-force kernel on LAMMPS's comparison problem | [`bench`] |
+//! | stage | module | what it holds |
+//! |---|---|---|
+//! | mesh files → [`Mesh`](importers::Mesh) | [`importers`] (crate `pdcontact-importers`) | CDB, MSH, INP readers, boundary faces |
+//! | shared vocabulary | [`math`], [`reduction`], [`error`] | `Vec3`, `NOT_A_PARTICLE`; ordered parallel sums; the error type and exit codes |
+//! | mesh → PD case | [`case`] | [`generators`](case::generators) (built-in hex8 shapes), [`discretize`](case::discretize) (particles, volumes, spacing), [`neighbours`](case::neighbours) (cell lists, bond families), [`pairs`](case::pairs) (the bond-force pass, each pair once), [`correction`](case::correction) (volume and surface correction), [`surface`](case::surface) (eigenvalue surface detection), [`segments`](case::segments) (master segments, tributary areas), the assembled [`PdCase`](case::PdCase) and its symmetry ghosts |
+//! | scene file | [`scene`] | the TOML schema; `check.rs`: every check of its values |
+//! | bodies | [`body`] | deformable and rigid body types; `build.rs`: a body built from its `[[body]]` (mesh I/O, transform, symmetry clipping, rigid faces) |
+//! | contact | [`contact`] | `broad.rs` (Verlet lists), `narrow.rs` (projection, segment rules), `law.rs` (Hertz penalty), the pass that ties them, [`shortrange`](contact::shortrange) (node-to-node repulsion) |
+//! | model | [`model`] | a scene assembled: bodies, loads, supports, contact passes, and the force evaluation (Eq. 28) |
+//! | solver | [`solver`] | `adr.rs` (adaptive dynamic relaxation), `explicit.rs` (velocity Verlet, stable step), the monitor and the checks they share |
+//! | output | [`output`] | [`vtk`](output::vtk) (VTK XML files), [`frames`](output::frames) (frames, `run.pvd`, progress), [`analysis`](output::analysis) (contact pressure and patch, Hertz and Sadowsky references) |
+//! | commands | [`run`], [`convert`] | a scene run to its frames and `summary.json`; a mesh turned into a case folder |
+//! | studies | [`studies`] | [`demo`](studies::demo), [`scenarios`](studies::scenarios) and [`comparison`](studies::comparison) (the validation scenes against theory), [`validate`](studies::validate), [`sweep`](studies::sweep), [`stability`](studies::stability), [`bench`](studies::bench), [`chart`](studies::chart) |
+//!
+//! The body types come before the contact stage and the model after it: a model holds the
+//! contact passes, and a contact pass works on bodies. `src/main.rs` is the command line, a
+//! thin shell over [`run`], [`convert`] and the studies.
+//!
+//! The later stages read the scene's plain enums ([`Kinematics`](scene::Kinematics),
+//! [`Motion`](scene::Motion), [`PenaltyLaw`](scene::PenaltyLaw),
+//! [`ContactMethod`](scene::ContactMethod)) and the solver its
+//! [`SolverSpec`](scene::SolverSpec) as the schema defines them: they are names and numbers
+//! with no file logic, and a model copy of each would be a second definition of the same
+//! values. The body builder, the model and the run are where a scene is read.
+//!
+//! "Case" names three things: a PD case ([`case::PdCase`]: one mesh as particles, bonds and
+//! segments, what `pdcontact convert` writes as `case.toml`), a validation case
+//! ([`ValidationCase`](studies::scenarios::ValidationCase): one validation scene and its
+//! theory), and `--case` of `validate` and `sweep` (which problems: sphere, roller, punch).
+//! The names stay, as the docs and scripts use them; each is said where it is defined.
 
 // `!(x > 0.0)` is the NaN-rejecting test the numerics want (a NaN must fail the check), and
 // index loops over several parallel arrays read better than zipped iterators here.
@@ -23,31 +40,18 @@
 
 pub use pdcontact_importers as importers;
 
-pub mod analysis;
-pub mod bench;
 pub mod body;
 pub mod case;
 pub mod contact;
 pub mod convert;
-pub mod correction;
-pub mod demo;
-pub mod discretize;
 pub mod error;
-pub mod generators;
+pub mod math;
 pub mod model;
-pub mod neighbours;
 pub mod output;
-pub mod pairs;
 pub mod reduction;
 pub mod run;
 pub mod scene;
-pub mod segments;
-pub mod shortrange;
 pub mod solver;
-pub mod stability;
-pub mod surface;
-pub mod sweep;
-pub mod validate;
-pub mod vtk;
+pub mod studies;
 
 pub use error::{Error, Result};

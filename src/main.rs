@@ -3,11 +3,14 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{Parser, Subcommand, ValueEnum};
 use pdcontact::case::{CaseOptions, DEFAULT_HORIZON_FACTOR};
 use pdcontact::importers::{Format, MeshSummary};
 use pdcontact::run::{run_scene, RunOptions};
 use pdcontact::scene::Scene;
+use pdcontact::studies::bench::LATTICE_HORIZON_FACTOR;
+use pdcontact::studies::scenarios::{Problem, Set};
+use pdcontact::studies::validate::{self, Study};
 use pdcontact::Error;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -67,15 +70,15 @@ enum Command {
     },
     /// Validate against theory: Hertz sphere and roller, Sadowsky punch (paper and hertz sets).
     Validate {
-        /// sphere, roller, punch or all.
-        #[arg(long, default_value = "all")]
-        case: String,
-        /// paper, hertz or all.
-        #[arg(long, default_value = "hertz")]
-        set: String,
-        /// Run a convergence study of the sphere instead: spacing, horizon or timestep.
-        #[arg(long)]
-        study: Option<String>,
+        /// The problems.
+        #[arg(long, value_enum, default_value_t = ProblemArg::All)]
+        case: ProblemArg,
+        /// The scene sets.
+        #[arg(long, value_enum, default_value_t = SetArg::Hertz)]
+        set: SetArg,
+        /// Run a convergence study of the sphere instead.
+        #[arg(long, value_enum)]
+        study: Option<StudyArg>,
         /// Output folder (one subfolder per run).
         #[arg(short, long, default_value = "pdcontact-validate")]
         output: PathBuf,
@@ -89,12 +92,12 @@ enum Command {
     /// Speed against accuracy: the Hertz sphere over a grid of spacings, horizons, contact
     /// methods and solvers; writes sweep.json and speed_accuracy.svg.
     Sweep {
-        /// The problem (sphere).
-        #[arg(long, default_value = "sphere")]
-        case: String,
-        /// The scene set (hertz).
-        #[arg(long, default_value = "hertz")]
-        set: String,
+        /// The problem.
+        #[arg(long, value_enum, default_value_t = SweepProblem::Sphere)]
+        case: SweepProblem,
+        /// The scene set.
+        #[arg(long, value_enum, default_value_t = SweepSet::Hertz)]
+        set: SweepSet,
         /// Output folder (one subfolder per run).
         #[arg(short, long, default_value = "pdcontact-sweep")]
         output: PathBuf,
@@ -131,9 +134,10 @@ enum Command {
         /// With --pipeline: grid spacing Δ (default: the median element edge).
         #[arg(long)]
         spacing: Option<f64>,
-        /// Horizon factor m (δ = m·Δ); 3.0002 keeps bonds of length exactly 3Δ in.
-        #[arg(long, default_value_t = pdcontact::bench::DEFAULT_HORIZON_FACTOR)]
-        horizon_factor: f64,
+        /// Horizon factor m (δ = m·Δ) [default: 3.0002 on the lattice, which keeps bonds of
+        /// length exactly 3Δ in; 3 with --pipeline]
+        #[arg(long)]
+        horizon_factor: Option<f64>,
         /// Time steps (or, with --adr, passes and iterations) to time.
         #[arg(long, default_value_t = 200)]
         steps: usize,
@@ -158,6 +162,74 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+}
+
+/// `validate --case`: the problems (a validation "case" is a problem and a set).
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum ProblemArg {
+    Sphere,
+    Roller,
+    Punch,
+    All,
+}
+
+impl ProblemArg {
+    fn problems(self) -> Vec<Problem> {
+        match self {
+            ProblemArg::Sphere => vec![Problem::Sphere],
+            ProblemArg::Roller => vec![Problem::Roller],
+            ProblemArg::Punch => vec![Problem::Punch],
+            ProblemArg::All => vec![Problem::Sphere, Problem::Roller, Problem::Punch],
+        }
+    }
+}
+
+/// `validate --set`: the scene sets.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum SetArg {
+    Paper,
+    Hertz,
+    All,
+}
+
+impl SetArg {
+    fn sets(self) -> Vec<Set> {
+        match self {
+            SetArg::Paper => vec![Set::Paper],
+            SetArg::Hertz => vec![Set::Hertz],
+            SetArg::All => vec![Set::Hertz, Set::Paper],
+        }
+    }
+}
+
+/// `validate --study`: the convergence studies.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum StudyArg {
+    Spacing,
+    Horizon,
+    Timestep,
+}
+
+impl From<StudyArg> for Study {
+    fn from(s: StudyArg) -> Study {
+        match s {
+            StudyArg::Spacing => Study::Spacing,
+            StudyArg::Horizon => Study::Horizon,
+            StudyArg::Timestep => Study::Timestep,
+        }
+    }
+}
+
+/// `sweep --case`: the sweep has one problem so far.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum SweepProblem {
+    Sphere,
+}
+
+/// `sweep --set`: and one scene set.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum SweepSet {
+    Hertz,
 }
 
 fn parse_format(s: &str) -> Result<Format, String> {
@@ -204,11 +276,9 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             };
             let mesh = pdcontact::importers::read_format(&file, &data, format)?;
             let summary = MeshSummary::of(&mesh, format);
-            if json {
-                println!("{}", to_json(&summary));
-            } else {
-                print!("{}", summary.to_text(&file.display().to_string()));
-            }
+            print_report(json, &summary, || {
+                summary.to_text(&file.display().to_string())
+            });
             Ok(Outcome::Done)
         }
         Command::Convert {
@@ -222,16 +292,13 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             let options = CaseOptions {
                 spacing,
                 horizon_factor,
-                correction: pdcontact::correction::CorrectionMethod::Balanced,
+                correction: pdcontact::case::correction::CorrectionMethod::Balanced,
                 symmetry: Vec::new(),
             };
             let (_, summary) = pdcontact::convert::convert(&mesh, format, &output, options)?;
-            if json {
-                println!("{}", to_json(&summary));
-            } else {
-                print!("{}", summary.to_text());
-                println!("wrote {}", output.display());
-            }
+            print_report(json, &summary, || {
+                format!("{}wrote {}\n", summary.to_text(), output.display())
+            });
             Ok(Outcome::Done)
         }
         Command::Demo {
@@ -244,12 +311,8 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
                 quiet,
                 stop: Some(stop_flag()),
             };
-            let report = pdcontact::demo::run_demo(&output, &options)?;
-            if json {
-                println!("{}", to_json(&report));
-            } else {
-                print!("{}", report.to_text());
-            }
+            let report = pdcontact::studies::demo::run_demo(&output, &options)?;
+            print_report(json, &report, || report.to_text());
             Ok(interrupted(&report.summary))
         }
         Command::Validate {
@@ -261,18 +324,10 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             quiet,
         } => {
             let selection = match study {
-                Some(s) => pdcontact::validate::run_study(
-                    pdcontact::validate::Study::parse(&s)?,
-                    &output,
-                    quiet,
-                )?,
-                None => pdcontact::validate::run_selection(&case, &set, &output, quiet)?,
+                Some(s) => validate::run_study(s.into(), &output, quiet)?,
+                None => validate::run_selection(&case.problems(), &set.sets(), &output, quiet)?,
             };
-            if json {
-                println!("{}", to_json(&selection.rows));
-            } else {
-                print!("{}", pdcontact::validate::table(&selection.rows));
-            }
+            print_report(json, &selection.rows, || validate::table(&selection.rows));
             for f in &selection.failures {
                 eprintln!("error: {f}");
             }
@@ -294,31 +349,18 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             stability,
         } => {
             if stability {
-                let runs = pdcontact::stability::run_stability(&output, quiet)?;
-                if json {
-                    println!("{}", to_json(&runs));
-                } else {
-                    print!("{}", pdcontact::stability::table(&runs));
-                }
+                let runs = pdcontact::studies::stability::run_stability(&output, quiet)?;
+                print_report(json, &runs, || pdcontact::studies::stability::table(&runs));
                 return Ok(Outcome::Done);
             }
-            if case != "sphere" {
-                return Err(pdcontact::Error::input(format!(
-                    "sweep: --case takes sphere, got \"{case}\""
-                )));
-            }
-            if set != "hertz" {
-                return Err(pdcontact::Error::input(format!(
-                    "sweep: --set takes hertz, got \"{set}\""
-                )));
-            }
-            let runs =
-                pdcontact::sweep::run_sweep(pdcontact::sweep::sphere_grid(), &output, quiet)?;
-            if json {
-                println!("{}", to_json(&runs));
-            } else {
-                print!("{}", pdcontact::sweep::table(&runs));
-            }
+            // One problem and one set so far: clap has refused any other.
+            let (SweepProblem::Sphere, SweepSet::Hertz) = (case, set);
+            let runs = pdcontact::studies::sweep::run_sweep(
+                pdcontact::studies::sweep::sphere_grid(),
+                &output,
+                quiet,
+            )?;
+            print_report(json, &runs, || pdcontact::studies::sweep::table(&runs));
             Ok(Outcome::Done)
         }
         Command::Bench {
@@ -333,30 +375,18 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
         } => {
             if let Some(scene) = adr {
                 let scene = pdcontact::scene::Scene::load(&scene)?;
-                let report = pdcontact::bench::run_adr(&scene, steps, threads)?;
-                if json {
-                    println!("{}", to_json(&report));
-                } else {
-                    print!("{}", report.to_text());
-                }
+                let report = pdcontact::studies::bench::run_adr(&scene, steps, threads)?;
+                print_report(json, &report, || report.to_text());
                 return Ok(Outcome::Done);
             }
             if let Some(mesh) = pipeline {
                 let options = pdcontact::case::CaseOptions {
                     spacing,
-                    horizon_factor: if horizon_factor == pdcontact::bench::DEFAULT_HORIZON_FACTOR {
-                        pdcontact::case::DEFAULT_HORIZON_FACTOR
-                    } else {
-                        horizon_factor
-                    },
+                    horizon_factor: horizon_factor.unwrap_or(DEFAULT_HORIZON_FACTOR),
                     ..Default::default()
                 };
-                let report = pdcontact::bench::run_pipeline(&mesh, options, threads)?;
-                if json {
-                    println!("{}", to_json(&report));
-                } else {
-                    print!("{}", report.to_text());
-                }
+                let report = pdcontact::studies::bench::run_pipeline(&mesh, options, threads)?;
+                print_report(json, &report, || report.to_text());
                 return Ok(Outcome::Done);
             }
             let Some(lattice_sphere) = lattice_sphere else {
@@ -364,18 +394,14 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
                     "bench needs --lattice-sphere DX or --adr SCENE",
                 ));
             };
-            let spec = pdcontact::bench::LatticeSphere {
+            let spec = pdcontact::studies::bench::LatticeSphere {
                 spacing: lattice_sphere,
-                horizon_factor,
+                horizon_factor: horizon_factor.unwrap_or(LATTICE_HORIZON_FACTOR),
                 steps,
                 threads,
             };
-            let report = pdcontact::bench::run_lattice_sphere(&spec)?;
-            if json {
-                println!("{}", to_json(&report));
-            } else {
-                print!("{}", report.to_text(&spec));
-            }
+            let report = pdcontact::studies::bench::run_lattice_sphere(&spec)?;
+            print_report(json, &report, || report.to_text(&spec));
             Ok(Outcome::Done)
         }
         Command::Run {
@@ -415,6 +441,15 @@ fn stop_flag() -> Arc<AtomicBool> {
     // Ctrl-C / SIGTERM: finish the current frame, close the .pvd, exit.
     let _ = ctrlc::set_handler(move || f.store(true, Ordering::Relaxed));
     flag
+}
+
+/// Prints `value` as JSON on stdout with `--json`, else its text.
+fn print_report<T: serde::Serialize>(json: bool, value: &T, text: impl FnOnce() -> String) {
+    if json {
+        println!("{}", to_json(value));
+    } else {
+        print!("{}", text());
+    }
 }
 
 fn to_json<T: serde::Serialize>(v: &T) -> String {

@@ -7,15 +7,15 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::analysis::{contact_patch, fit_elliptic};
 use crate::body::Body;
-use crate::discretize::Vec3;
 use crate::error::{Error, Result};
+use crate::math::Vec3;
 use crate::model::Model;
+use crate::output::analysis::{contact_patch, fit_elliptic};
+use crate::output::vtk::write_atomically;
 use crate::output::{FrameWriter, RunMonitor};
 use crate::scene::{Motion, Scene, SolverKind};
 use crate::solver::{solve, RunStats};
-use crate::vtk::write_atomically;
 
 /// Options of a run.
 #[derive(Clone, Debug, Default)]

@@ -3,8 +3,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use pdcontact::demo::run_demo;
 use pdcontact::run::RunOptions;
+use pdcontact::studies::demo::run_demo;
 
 fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("pdcontact-demo-{name}-{}", std::process::id()));

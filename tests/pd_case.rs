@@ -4,8 +4,8 @@ use std::path::Path;
 
 use pdcontact::body::{Material, PdBody};
 use pdcontact::case::{CaseOptions, PdCase};
-use pdcontact::discretize::Vec3;
 use pdcontact::importers::read_path;
+use pdcontact::math::Vec3;
 
 fn sphere_case(file: &str) -> PdCase {
     let mesh =

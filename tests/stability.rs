@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use pdcontact::scene::ContactMethod;
-use pdcontact::stability::{run_point, sphere_spacing, Loading, RunPoint, StabilityRun};
+use pdcontact::studies::stability::{run_point, sphere_spacing, Loading, RunPoint, StabilityRun};
 
 fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("pdcontact-stab-{name}-{}", std::process::id()));

@@ -5,9 +5,10 @@
 
 use std::path::PathBuf;
 
-use pdcontact::validate::{
-    hertz_punch_case, hertz_roller_case, hertz_sphere_case, punch_at, run_case, sphere_cap_case,
-    ValidationRow, STIFF_PENALTY,
+use pdcontact::studies::comparison::{run_case, ValidationRow};
+use pdcontact::studies::scenarios::{
+    hertz_punch_case, hertz_roller_case, hertz_sphere_case, punch_at, sphere_cap_case,
+    STIFF_PENALTY,
 };
 
 const ADR: &str = "kind = \"adr\"\ntolerance = 1e-5";
@@ -21,7 +22,7 @@ fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
-fn run(case: pdcontact::validate::ValidationCase, name: &str) -> ValidationRow {
+fn run(case: pdcontact::studies::scenarios::ValidationCase, name: &str) -> ValidationRow {
     let dir = temp_dir(name);
     let rows = run_case(&case, &dir, true).expect("validation case runs");
     let row = rows.into_iter().next().expect("one row");

@@ -8,7 +8,7 @@ Reads each mesh with meshio (independent of gmsh) and reports, over its 3D
 elements (hex8, tet4): node count, element counts by type (2D boundary
 elements too), edge lengths (min/median/max over unique edges), the median
 edge counted once per element (the grid spacing Δ that pdcontact takes by
-default, src/discretize.rs `median_edge`), the total volume (exact for the
+default, src/case/discretize.rs `median_edge`), the total volume (exact for the
 trilinear hexes: 2x2x2 Gauss integration of det J) against the exact volume
 (4πR³/3 for a sphere, R = largest node radius; the bounding box for a box),
 the minimum scaled Jacobian (Verdict definition: at each corner, the triple

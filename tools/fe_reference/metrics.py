@@ -1,4 +1,4 @@
-"""The three accuracy figures of METHOD.md section 7, as src/analysis.rs computes them.
+"""The three accuracy figures of METHOD.md section 7, as src/output/analysis.rs computes them.
 
 (1) MRE = mean over the slave nodes within r <= 0.8a of |p_i - p(r_i)| / p0, all of
     them, loaded or not; (2) a'/a - 1 from a least-squares fit of p0' sqrt(1 - (r/a')^2)

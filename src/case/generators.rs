@@ -12,7 +12,8 @@ use std::collections::HashMap;
 
 use pdcontact_importers::{ElementKind, Mesh, NamedSet, SetKind};
 
-use crate::discretize::{element_volume, Vec3};
+use crate::case::discretize::element_volume;
+use crate::math::Vec3;
 
 /// Builds a hex mesh block by block, merging coincident nodes.
 struct HexBuilder {
@@ -289,7 +290,7 @@ pub fn cap(shape: CapShape, half_width: f64, depth: f64, spacing: f64) -> Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::discretize::discretize;
+    use crate::case::discretize::discretize;
     use pdcontact_importers::boundary_faces;
 
     #[test]

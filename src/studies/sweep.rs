@@ -1,5 +1,5 @@
 //! `pdcontact sweep --case sphere`: speed against accuracy over a grid of spacings, horizons,
-//! contact methods and solvers, on the Hertz sphere of [`crate::validate`].
+//! contact methods and solvers, on the Hertz sphere of [`crate::studies::validate`].
 //!
 //! The sphere has a/R = 0.3 (the convergence studies' sphere, [`STUDY_CONTACT_RADIUS`]): at
 //! a/R = 0.15 the same a/Δ costs eight times the particles, and the grid would not run in
@@ -23,11 +23,13 @@ use plotters::prelude::*;
 use serde::Serialize;
 
 use crate::error::{Error, Result};
-use crate::validate::{
-    run_case, sphere_cap_case, sphere_on_block_case, ValidationCase, ADR_SOLVER, STIFF_PENALTY,
+use crate::output::vtk::write_atomically;
+use crate::studies::chart::{legend, write_svg};
+use crate::studies::comparison::run_case;
+use crate::studies::scenarios::{
+    sphere_cap_case, sphere_on_block_case, ValidationCase, ADR_SOLVER, STIFF_PENALTY,
     STUDY_CONTACT_RADIUS, STUDY_DAMPING, STUDY_END_TIME,
 };
-use crate::vtk::write_atomically;
 
 /// CalculiX's figures for the Hertz sphere at a/R = 0.3 (the sweep's sphere), as measured on
 /// this machine by `tools/fe_reference.sh --contact-radius 0.3` and tabulated in
@@ -122,7 +124,7 @@ pub fn sphere_grid() -> Vec<SweepPoint> {
                         m,
                         &block,
                         "method = \"short-range\"",
-                        crate::shortrange::DISTANCE * dx,
+                        crate::contact::shortrange::DISTANCE * dx,
                         &format!("short-range-block-{tag}"),
                     ),
                 });
@@ -258,12 +260,8 @@ fn write_chart(path: &Path, runs: &[SweepRun]) -> Result<()> {
     ys.extend(FE_POINTS.iter().map(|p| 100.0 * p.1));
     let (xmin, xmax) = bounds(&xs);
     let (ymin, ymax) = bounds(&ys);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (960, 640)).into_drawing_area();
-        let draw = |e: &dyn std::fmt::Display| Error::output(path, e.to_string());
-        root.fill(&WHITE).map_err(|e| draw(&e))?;
-        let mut chart = ChartBuilder::on(&root)
+    write_svg(path, (960, 640), |root, draw| {
+        let mut chart = ChartBuilder::on(root)
             .caption(
                 format!("Hertz sphere, a/R = {STUDY_CONTACT_RADIUS}: MRE against wall time"),
                 ("sans-serif", 18),
@@ -320,16 +318,12 @@ fn write_chart(path: &Path, runs: &[SweepRun]) -> Result<()> {
             .map_err(|e| draw(&e))?
             .label("Pareto front of the PD runs")
             .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK));
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
+        legend(&mut chart)
             .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(|e| draw(&e))?;
-        root.present().map_err(|e| draw(&e))?;
-    }
-    write_atomically(path, |w| std::io::Write::write_all(w, svg.as_bytes()))
+        Ok(())
+    })
 }
 
 /// A log axis range around the values.

@@ -18,8 +18,8 @@ use vtkio::model::{
 };
 use vtkio::xml::Compressor;
 
-use crate::discretize::Vec3;
 use crate::error::{Error, Result};
+use crate::math::Vec3;
 
 /// One named data array.
 #[derive(Clone, Debug)]

@@ -6,12 +6,12 @@
 use rayon::prelude::*;
 
 use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
+use crate::case::pairs::{pair_forces, PairKinematics};
+use crate::contact::shortrange::ShortRangePass;
 use crate::contact::{hertz_stiffness, ContactLaw, ContactPass, WINDOW};
-use crate::discretize::{Vec3, NOT_A_PARTICLE};
 use crate::error::Result;
-use crate::pairs::{pair_forces, PairKinematics};
-use crate::scene::{BodyKind, ContactMethod, Kinematics, Scene};
-use crate::shortrange::ShortRangePass;
+use crate::math::{Vec3, NOT_A_PARTICLE};
+use crate::scene::{Axis, BodyKind, ContactMethod, Kinematics, PenaltyLaw, Scene};
 
 /// Bodies and contact passes of a scene.
 #[derive(Clone, Debug)]
@@ -71,10 +71,10 @@ impl Model {
             };
             let mut mask = 0;
             for f in &c.fix {
-                mask |= match f.as_str() {
-                    "x" => FIX_X,
-                    "y" => FIX_Y,
-                    _ => FIX_Z,
+                mask |= match f {
+                    Axis::X => FIX_X,
+                    Axis::Y => FIX_Y,
+                    Axis::Z => FIX_Z,
                 };
             }
             for p in set_particles(scene, pd, &c.set)? {
@@ -219,8 +219,8 @@ impl Model {
                             // only its share, as its force does.
                             let f = c.force.norm();
                             match p.law.law {
-                                crate::scene::PenaltyLaw::Hertz => 0.4 * f * d,
-                                crate::scene::PenaltyLaw::Linear => 0.5 * f * d,
+                                PenaltyLaw::Hertz => 0.4 * f * d,
+                                PenaltyLaw::Linear => 0.5 * f * d,
                             }
                         })
                         .sum::<f64>()

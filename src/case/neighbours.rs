@@ -9,7 +9,7 @@
 
 use rayon::prelude::*;
 
-use crate::discretize::Vec3;
+use crate::math::Vec3;
 
 /// Points binned into a uniform grid of cubic cells.
 #[derive(Clone, Debug)]
@@ -206,7 +206,7 @@ pub fn build_bonds_from(points: &[Vec3], queries: usize, radius: f64) -> BondLis
 }
 
 /// Each pair `i < j` with `|x_j − x_i| ≤ radius` once, on its lower index (the half list of
-/// [`crate::pairs`]).
+/// [`crate::case::pairs`]).
 pub fn build_pairs(points: &[Vec3], radius: f64) -> BondList {
     build(points, points.len(), radius, true)
 }

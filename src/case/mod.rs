@@ -1,17 +1,39 @@
 //! A PD case: a mesh turned into particles, bonds, corrections, surface and master segments
 //! (METHOD.md §1-4). This is what `pdcontact convert` writes and what each deformable body of a
 //! scene is built from.
+//!
+//! The stage's modules, in the order the data takes them:
+//!
+//! | step | module |
+//! |---|---|
+//! | built-in hex8 shapes (meshes made in memory) | [`generators`] |
+//! | particles, volumes, spacing | [`discretize`](mod@discretize) |
+//! | cell lists, bond families | [`neighbours`] |
+//! | the bond-force pass, each pair once | [`pairs`] |
+//! | volume and surface correction | [`correction`] |
+//! | eigenvalue surface detection | [`surface`] |
+//! | master segments, tributary areas | [`segments`] |
+//! | the assembled case ([`PdCase`]), symmetry ghosts | this module |
+
+pub mod correction;
+pub mod discretize;
+pub mod generators;
+pub mod neighbours;
+pub mod pairs;
+pub mod segments;
+pub mod surface;
 
 use std::time::Instant;
 
 use pdcontact_importers::{boundary_faces, FaceSet, Mesh};
 
-use crate::correction::{surface_correction_with, CorrectionMethod, SurfaceCorrection};
-use crate::discretize::{discretize, Discretization, Vec3};
+use crate::case::correction::{surface_correction_with, CorrectionMethod, SurfaceCorrection};
+use crate::case::discretize::{discretize, Discretization};
+use crate::case::neighbours::{build_bonds_from, BondList};
+use crate::case::segments::{master_segments, SegmentSet};
+use crate::case::surface::{detect_surface, SurfaceDetection};
 use crate::error::{Error, Result};
-use crate::neighbours::{build_bonds_from, BondList};
-use crate::segments::{master_segments, SegmentSet};
-use crate::surface::{detect_surface, SurfaceDetection};
+use crate::math::Vec3;
 
 /// Default horizon factor `m` (δ = m·Δ).
 pub const DEFAULT_HORIZON_FACTOR: f64 = 3.0;
@@ -346,7 +368,7 @@ fn trim_bonds(bonds: BondList, reach: f64) -> BondList {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::generators;
+    use crate::case::generators;
 
     /// A flat-faced hex block through the whole pipeline: lumped volumes, completed at the
     /// faces, give the lattice values of the eigenvalue test for h = Δ.
@@ -357,7 +379,7 @@ mod tests {
         let p = &case.particles;
         let find = |x: f64, y: f64, z: f64| {
             (0..p.len())
-                .find(|&i| (p.position[i] - crate::discretize::Vec3::new(x, y, z)).norm() < 1e-9)
+                .find(|&i| (p.position[i] - crate::math::Vec3::new(x, y, z)).norm() < 1e-9)
                 .expect("lattice point")
         };
         let face = case.surface.lambda_min[find(0.7, 0.7, 0.0)];
@@ -376,8 +398,8 @@ mod tests {
 #[cfg(test)]
 mod symmetry_tests {
     use super::*;
-    use crate::discretize::Vec3;
-    use crate::generators;
+    use crate::case::generators;
+    use crate::math::Vec3;
 
     /// A quarter of a box with two symmetry planes reproduces the whole box particle by
     /// particle: eigenvalues, surface flags, normals and correction factors.

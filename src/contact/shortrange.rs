@@ -44,9 +44,9 @@
 use rayon::prelude::*;
 
 use crate::body::{Body, PdBody};
+use crate::case::neighbours::CellGrid;
 use crate::contact::{slave_normal, SKIN};
-use crate::discretize::Vec3;
-use crate::neighbours::CellGrid;
+use crate::math::Vec3;
 
 /// The contact distance `d`, in slave spacings (LAMMPS's cap `1.35 l`).
 pub const DISTANCE: f64 = 1.35;

@@ -8,16 +8,10 @@
 //! Particles are stored in Morton (Z-curve) order of their position, so that particles close in
 //! space are close in memory: the bond loop then reads partner data from cache.
 
-use nalgebra::Vector3;
 use pdcontact_importers::{face_corners, ElementKind, ElementRef, Mesh, MISSING_NODE};
 
 use crate::error::{Error, Result};
-
-/// A 3-vector of f64.
-pub type Vec3 = Vector3<f64>;
-
-/// Marks a mesh node that is not a particle.
-pub const NOT_A_PARTICLE: u32 = u32::MAX;
+use crate::math::{Vec3, NOT_A_PARTICLE};
 
 /// The particles of one body in their reference configuration.
 #[derive(Clone, Debug, Default)]

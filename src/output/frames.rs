@@ -15,34 +15,15 @@ use std::sync::Arc;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::body::Body;
-use crate::discretize::Vec3;
 use crate::error::{Error, Result};
+use crate::math::Vec3;
 use crate::model::Model;
+use crate::output::analysis::contact_pressure;
+use crate::output::vtk::{write_vtu, CellSpec, Field, PvdCollection};
 use crate::solver::Monitor;
-use crate::vtk::{write_vtu, CellSpec, Field, PvdCollection};
 
 /// Name of the collection file.
 pub const PVD_NAME: &str = "run.pvd";
-
-/// Contact pressure per particle: normal contact force over undeformed tributary area
-/// (METHOD.md §5). The penalty force acts along the master segment's normal, so its magnitude
-/// is the normal contact force; frictionless contact has no other component.
-pub fn contact_pressure(model: &Model, body: usize) -> Vec<f64> {
-    let Some(pd) = model.bodies[body].as_pd() else {
-        return Vec::new();
-    };
-    let area = &pd.case.segments.tributary_area;
-    (0..pd.len())
-        .map(|i| {
-            let f = pd.contact_force[i].norm();
-            if area[i] > 0.0 && f > 0.0 {
-                f / area[i]
-            } else {
-                0.0
-            }
-        })
-        .collect()
-}
 
 /// A frame file this writer makes: `particles_` or `segments_`, six or more digits, `.vtu`.
 fn is_frame_name(name: &str) -> bool {

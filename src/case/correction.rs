@@ -29,8 +29,8 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use crate::discretize::Vec3;
-use crate::neighbours::BondList;
+use crate::case::neighbours::BondList;
+use crate::math::Vec3;
 
 /// Turns the two ends' per-axis values into `1/ḡ²` per axis.
 type Combine = fn(&[f64; 3], &[f64; 3]) -> [f64; 3];
@@ -505,7 +505,7 @@ pub fn surface_correction_with(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::neighbours::build_bonds;
+    use crate::case::neighbours::build_bonds;
 
     #[test]
     fn volume_correction_shape() {

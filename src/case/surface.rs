@@ -13,8 +13,8 @@
 use nalgebra::{Matrix3, SymmetricEigen};
 use rayon::prelude::*;
 
-use crate::discretize::Vec3;
-use crate::neighbours::BondList;
+use crate::case::neighbours::BondList;
+use crate::math::Vec3;
 
 /// The threshold of Eq. 15.
 pub const SURFACE_LAMBDA: f64 = 0.75;
@@ -114,7 +114,7 @@ pub fn detect_surface(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::neighbours::build_bonds;
+    use crate::case::neighbours::build_bonds;
 
     /// A simple cubic lattice block of unit cells (the completed volumes of a hex mesh).
     fn lattice(n: usize) -> (Vec<Vec3>, Vec<f64>) {

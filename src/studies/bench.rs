@@ -3,7 +3,7 @@
 //!
 //! The body is a sphere of radius 1 m whose particles are the points of a simple cubic lattice
 //! of spacing Δ inside it, each of volume Δ³ (what LAMMPS's `lattice sc` and `create_atoms`
-//! make), sorted in Morton order as [`discretize`](crate::discretize) sorts mesh nodes. Bonds
+//! make), sorted in Morton order as [`discretize`](crate::case::discretize) sorts mesh nodes. Bonds
 //! come from [`build_pairs`] (each pair once), weights are the bond-based PMB ones, `w = c v_c V_i V_j / L` with
 //! `c = 12E/(πδ⁴)` (Eq. 5) and the volume correction `v_c` of Eq. 10, which is the partial
 //! volume LAMMPS applies to bonds near the edge of the horizon. There is no surface correction
@@ -17,11 +17,12 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::correction::{micromodulus, volume_correction};
-use crate::discretize::{sort_morton, Vec3};
+use crate::case::correction::{micromodulus, volume_correction};
+use crate::case::discretize::sort_morton;
+use crate::case::neighbours::build_pairs;
+use crate::case::pairs::{pair_forces, ForceBuffers, PairKinematics, PairList};
 use crate::error::{Error, Result};
-use crate::neighbours::build_pairs;
-use crate::pairs::{pair_forces, ForceBuffers, PairKinematics, PairList};
+use crate::math::Vec3;
 
 /// Radius of the sphere, m.
 pub const RADIUS: f64 = 1.0;
@@ -33,9 +34,10 @@ pub const DENSITY: f64 = 1000.0;
 pub const DT: f64 = 1e-5;
 /// Initial velocity `v = RATE · x` (a uniform expansion), 1/s.
 pub const RATE: f64 = 0.1;
-/// The horizon factor LAMMPS's examples use: 3 with a margin, so that bonds of length exactly
-/// 3Δ are inside the horizon whatever the rounding.
-pub const DEFAULT_HORIZON_FACTOR: f64 = 3.0002;
+/// The horizon factor LAMMPS's examples use on a lattice: 3 with a margin, so that bonds of
+/// length exactly 3Δ are inside the horizon whatever the rounding. A mesh's particles are not
+/// on a lattice: their default is [`crate::case::DEFAULT_HORIZON_FACTOR`] (3).
+pub const LATTICE_HORIZON_FACTOR: f64 = 3.0002;
 /// Particles per parallel work item.
 const CHUNK: usize = 256;
 /// Largest lattice accepted (partner indices are 32-bit).
@@ -295,7 +297,7 @@ mod tests {
     fn energy_is_conserved() {
         let spec = LatticeSphere {
             spacing: 0.2,
-            horizon_factor: DEFAULT_HORIZON_FACTOR,
+            horizon_factor: LATTICE_HORIZON_FACTOR,
             steps: 50,
             threads: Some(2),
         };
@@ -575,7 +577,7 @@ pub fn run_pipeline(
 
         let reach = (case.horizon + 0.5 * case.particles.spacing) * (1.0 + 1e-9);
         let (bonds, seconds, peak) =
-            stage(|| crate::neighbours::build_bonds(&case.particles.position, reach));
+            stage(|| crate::case::neighbours::build_bonds(&case.particles.position, reach));
         push(
             "neighbours alone",
             seconds,
@@ -586,7 +588,7 @@ pub fn run_pipeline(
         drop(bonds);
         let volume = case.particles.completed_volume();
         let (_, seconds, peak) = stage(|| {
-            crate::surface::detect_surface(
+            crate::case::surface::detect_surface(
                 &case.particles.position,
                 &volume,
                 &case.bonds,

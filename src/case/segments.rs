@@ -8,7 +8,8 @@
 
 use pdcontact_importers::FaceSet;
 
-use crate::discretize::{Discretization, Vec3, NOT_A_PARTICLE};
+use crate::case::discretize::Discretization;
+use crate::math::{Vec3, NOT_A_PARTICLE};
 
 /// A quadrilateral (or degenerate triangular) surface patch that slaves can press on.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -3,12 +3,22 @@
 //! A scene is TOML. Unknown keys, wrong types and missing keys are errors with the file's line
 //! and column. Paths in a scene are relative to the scene file. The README documents every key
 //! with an example per feature ("Scene files").
+//!
+//! This module is the schema (the serde types) and the scene's messages (errors that point at
+//! a line of the file); `check.rs` holds every check of a scene's values and references that
+//! serde cannot make. What can only be found by reading a body's mesh (a file that does not
+//! exist, a symmetry plane that crosses an element, a set that holds no particle) is reported
+//! where the mesh is read (`body`, `model`), at the scene line it concerns.
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::correction::CorrectionMethod;
+mod check;
+
+pub(crate) use check::box_corner;
+
+use crate::case::correction::CorrectionMethod;
 use crate::error::{Error, Result};
 
 /// The whole scene file.
@@ -259,7 +269,7 @@ pub struct ConstraintSpec {
     /// A named set (node or element set) of the body's mesh.
     pub set: String,
     /// Components held at zero: any of "x", "y", "z".
-    pub fix: Vec<String>,
+    pub fix: Vec<Axis>,
 }
 
 /// `[[symmetry]]`: a symmetry plane `axis = at` of a body.
@@ -268,18 +278,60 @@ pub struct ConstraintSpec {
 pub struct SymmetrySpec {
     pub body: String,
     /// "x", "y" or "z": the plane's normal axis.
-    pub axis: String,
+    pub axis: Axis,
     /// The plane's coordinate along that axis (default 0).
     #[serde(default)]
     pub at: f64,
     /// Which side of the plane the model keeps: "positive" (default) or "negative". A mesh
     /// that reaches across the plane is cut there (its elements must not straddle it).
-    #[serde(default = "default_keep")]
-    pub keep: String,
+    #[serde(default)]
+    pub keep: Side,
 }
 
-fn default_keep() -> String {
-    "positive".to_string()
+/// A coordinate axis: "x", "y" or "z" (serde names a wrong value with its line and column).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Axis {
+    X,
+    Y,
+    Z,
+}
+
+impl Axis {
+    /// 0, 1 or 2.
+    pub fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        }
+    }
+
+    /// "x", "y" or "z", as the scene writes it.
+    pub fn name(self) -> &'static str {
+        ["x", "y", "z"][self.index()]
+    }
+}
+
+/// The side of a symmetry plane that the model keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Side {
+    /// Coordinates above the plane.
+    #[default]
+    Positive,
+    /// Coordinates below the plane.
+    Negative,
+}
+
+impl Side {
+    /// "positive" or "negative", as the scene writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Side::Positive => "positive",
+            Side::Negative => "negative",
+        }
+    }
 }
 
 /// Penalty law of a contact pair.
@@ -323,7 +375,7 @@ pub enum ContactMethod {
     #[serde(alias = "point_to_surface")]
     PointToSurface,
     /// Node-to-node repulsion of PD codes (EMU, LAMMPS); the master must be deformable
-    /// ([`crate::shortrange`]).
+    /// ([`crate::contact::shortrange`]).
     #[serde(alias = "short_range")]
     ShortRange,
 }
@@ -358,329 +410,6 @@ impl Scene {
         scene.text = text.to_string();
         scene.check(text)?;
         Ok(scene)
-    }
-
-    /// Checks what serde cannot: names, references, values.
-    fn check(&self, text: &str) -> Result<()> {
-        let at = |needle: &str| locate(text, needle);
-        let err = |needle: &str, msg: String| {
-            let (l, c) = at(needle);
-            Error::input(format!("{}:{l}:{c}: {msg}", self.source))
-        };
-        if self.bodies.is_empty() {
-            return Err(err("", "the scene has no [[body]]".to_string()));
-        }
-        for (k, b) in self.bodies.iter().enumerate() {
-            let key = format!("name = \"{}\"", b.name);
-            let err = |needle: &str, msg: String| {
-                let (l, c) = locate_in_body(text, &b.name, needle);
-                Error::input(format!("{}:{l}:{c}: {msg}", self.source))
-            };
-            if self.bodies[..k].iter().any(|o| o.name == b.name) {
-                return Err(err(&key, format!("two bodies are named \"{}\"", b.name)));
-            }
-            match (&b.mesh, &b.generator) {
-                (None, None) => {
-                    return Err(err(
-                        &key,
-                        format!("body \"{}\" needs `mesh` or `generator`", b.name),
-                    ))
-                }
-                (Some(_), Some(_)) => {
-                    return Err(err(
-                        &key,
-                        format!(
-                            "body \"{}\" has both `mesh` and `generator`: keep one",
-                            b.name
-                        ),
-                    ))
-                }
-                _ => {}
-            }
-            if b.kind == BodyKind::Deformable {
-                let Some(m) = &b.material else {
-                    return Err(err(
-                        &key,
-                        format!("deformable body \"{}\" needs a [body.material]", b.name),
-                    ));
-                };
-                for (what, v) in [("youngs_modulus", m.youngs_modulus), ("density", m.density)] {
-                    if !(v > 0.0 && v.is_finite()) {
-                        return Err(err(
-                            what,
-                            format!("body \"{}\": {what} must be positive, got {v}", b.name),
-                        ));
-                    }
-                }
-                if (m.poisson_ratio - 0.25).abs() > 1e-9 {
-                    return Err(err(
-                        "poisson_ratio",
-                        format!(
-                            "body \"{}\": bond-based peridynamics fixes Poisson's ratio at 0.25, got {} (use 0.25)",
-                            b.name, m.poisson_ratio
-                        ),
-                    ));
-                }
-            }
-            if let Some(m) = &b.material {
-                for (what, v) in [("youngs_modulus", m.youngs_modulus), ("density", m.density)] {
-                    if !(v > 0.0 && v.is_finite()) {
-                        return Err(err(
-                            what,
-                            format!("body \"{}\": {what} must be positive, got {v}", b.name),
-                        ));
-                    }
-                }
-            }
-            for (what, v) in [
-                ("spacing", b.spacing),
-                ("horizon_factor", b.horizon_factor),
-                ("scale", b.scale),
-            ] {
-                if let Some(v) = v {
-                    if !(v > 0.0 && v.is_finite()) {
-                        return Err(err(
-                            what,
-                            format!("body \"{}\": {what} must be positive, got {v}", b.name),
-                        ));
-                    }
-                }
-            }
-            // Vectors: finite, and directions not zero.
-            let mut vectors: Vec<(&str, [f64; 3], bool)> = Vec::new();
-            for (what, v) in [
-                ("translate", b.translate),
-                ("velocity", b.velocity),
-                ("motion_velocity", b.motion_velocity),
-            ] {
-                if let Some(v) = v {
-                    vectors.push((what, v, false));
-                }
-            }
-            if let Some(a) = b.free_axis {
-                vectors.push(("free_axis", a, true));
-            }
-            if let Some(r) = &b.rotate {
-                vectors.push(("axis", r.axis, true));
-                if let Some(c) = r.center {
-                    vectors.push(("center", c, false));
-                }
-                if !r.angle_deg.is_finite() {
-                    return Err(err(
-                        "angle_deg",
-                        format!(
-                            "body \"{}\": rotate angle_deg must be finite, got {}",
-                            b.name, r.angle_deg
-                        ),
-                    ));
-                }
-            }
-            if let Some(g) = &b.generator {
-                for (what, v, dir) in [
-                    ("point", g.point, false),
-                    ("normal", g.normal, true),
-                    ("center", g.center, false),
-                ] {
-                    if let Some(v) = v {
-                        vectors.push((what, v, dir));
-                    }
-                }
-            }
-            for (what, v, direction) in vectors {
-                if v.iter().any(|x| !x.is_finite()) {
-                    return Err(err(
-                        what,
-                        format!(
-                            "body \"{}\": {what} must be three finite numbers, got {v:?}",
-                            b.name
-                        ),
-                    ));
-                }
-                if direction && v.iter().all(|&x| x == 0.0) {
-                    return Err(err(
-                        what,
-                        format!(
-                            "body \"{}\": {what} is a direction and cannot be [0, 0, 0]",
-                            b.name
-                        ),
-                    ));
-                }
-            }
-            if let Some(m) = b.horizon_factor {
-                if m < 1.0 {
-                    return Err(err(
-                        "horizon_factor",
-                        format!("body \"{}\": horizon_factor must be at least 1 (a horizon shorter than the spacing holds no bonds), got {m}", b.name),
-                    ));
-                }
-            }
-            if let Some(m) = b.mass {
-                if !(m > 0.0 && m.is_finite()) {
-                    return Err(err(
-                        "mass",
-                        format!("body \"{}\": mass must be positive, got {m}", b.name),
-                    ));
-                }
-            }
-            if b.kind == BodyKind::Rigid {
-                match b.motion {
-                    Motion::Velocity if b.motion_velocity.is_none() => {
-                        return Err(err(&key, format!("rigid body \"{}\": motion = \"velocity\" needs motion_velocity = [vx, vy, vz]", b.name)))
-                    }
-                    Motion::Free if b.free_axis.is_none() => {
-                        return Err(err(&key, format!("rigid body \"{}\": motion = \"free\" needs free_axis = [ax, ay, az]", b.name)))
-                    }
-                    _ => {}
-                }
-            }
-        }
-        let body = |name: &str, needle: &str| -> Result<&BodySpec> {
-            self.bodies
-                .iter()
-                .find(|b| b.name == name)
-                .ok_or_else(|| err(needle, format!("no body is named \"{name}\"")))
-        };
-        for l in &self.loads {
-            body(&l.body, &format!("body = \"{}\"", l.body))?;
-            if l.force.iter().any(|f| !f.is_finite()) {
-                return Err(err("force", "load force must be finite".to_string()));
-            }
-        }
-        for c in &self.constraints {
-            let b = body(&c.body, &format!("body = \"{}\"", c.body))?;
-            if b.kind == BodyKind::Rigid {
-                return Err(err(
-                    "fix",
-                    format!("constraint on rigid body \"{}\": use its `motion`", c.body),
-                ));
-            }
-            for f in &c.fix {
-                if !matches!(f.as_str(), "x" | "y" | "z") {
-                    return Err(err(
-                        "fix",
-                        format!("fix takes \"x\", \"y\" or \"z\", got \"{f}\""),
-                    ));
-                }
-            }
-        }
-        for s in &self.symmetries {
-            let b = body(&s.body, &format!("body = \"{}\"", s.body))?;
-            if b.kind == BodyKind::Rigid {
-                return Err(err(
-                    "axis",
-                    format!(
-                        "symmetry plane on rigid body \"{}\": rigid bodies need none",
-                        s.body
-                    ),
-                ));
-            }
-            if !matches!(s.axis.as_str(), "x" | "y" | "z") {
-                return Err(err(
-                    "axis",
-                    format!(
-                        "symmetry axis must be \"x\", \"y\" or \"z\", got \"{}\"",
-                        s.axis
-                    ),
-                ));
-            }
-            if !matches!(s.keep.as_str(), "positive" | "negative") {
-                return Err(err(
-                    "keep",
-                    format!(
-                        "symmetry keep must be \"positive\" or \"negative\", got \"{}\"",
-                        s.keep
-                    ),
-                ));
-            }
-        }
-        for c in &self.contacts {
-            let s = body(&c.slave, &format!("slave = \"{}\"", c.slave))?;
-            body(&c.master, &format!("master = \"{}\"", c.master))?;
-            if let Some(r) = c.radius {
-                if !(r > 0.0 && r.is_finite()) {
-                    return Err(err(
-                        "radius",
-                        format!("contact radius (the Hertz penalty's R) must be positive, got {r}"),
-                    ));
-                }
-            }
-            if c.slave == c.master {
-                return Err(err(
-                    &format!("slave = \"{}\"", c.slave),
-                    format!(
-                        "contact pair names body \"{}\" as both slave and master",
-                        c.slave
-                    ),
-                ));
-            }
-            if s.kind == BodyKind::Rigid {
-                return Err(err(
-                    &format!("slave = \"{}\"", c.slave),
-                    format!("slave \"{}\" is rigid: the slave must be deformable (swap slave and master)", c.slave),
-                ));
-            }
-            if c.method == ContactMethod::ShortRange {
-                let m = body(&c.master, &format!("master = \"{}\"", c.master))?;
-                let needle = if self.text.contains("short_range") {
-                    "short_range"
-                } else {
-                    "short-range"
-                };
-                if m.kind == BodyKind::Rigid {
-                    return Err(err(
-                        needle,
-                        format!("the short-range method pushes particles apart, and the rigid master \"{}\" has none: use method = \"point-to-surface\" or a deformable master", c.master),
-                    ));
-                }
-                if c.radius.is_some() {
-                    return Err(err(
-                        "radius",
-                        "radius sets the Hertz penalty of the point-to-surface method; the short-range method has no penalty radius".to_string(),
-                    ));
-                }
-            }
-        }
-        match self.solver.kind {
-            SolverKind::Adr => {
-                if let Some(t) = self.solver.tolerance {
-                    if !(t > 0.0 && t < 1.0) {
-                        return Err(err(
-                            "tolerance",
-                            format!("tolerance must be in (0, 1), got {t}"),
-                        ));
-                    }
-                }
-                if self.solver.load_steps == Some(0) {
-                    return Err(err(
-                        "load_steps",
-                        "load_steps must be at least 1, got 0".to_string(),
-                    ));
-                }
-            }
-            SolverKind::Explicit => {
-                match self.solver.end_time {
-                    None => {
-                        return Err(err("kind", "an explicit solver needs end_time".to_string()))
-                    }
-                    Some(t) if !(t > 0.0 && t.is_finite()) => {
-                        return Err(err(
-                            "end_time",
-                            format!("end_time must be positive, got {t}"),
-                        ))
-                    }
-                    _ => {}
-                }
-                if let Some(dt) = self.solver.dt {
-                    if !(dt > 0.0 && dt.is_finite()) {
-                        return Err(err("dt", format!("dt must be positive, got {dt}")));
-                    }
-                }
-            }
-        }
-        if self.output.every == 0 {
-            return Err(err("every", "output.every must be at least 1".to_string()));
-        }
-        Ok(())
     }
 
     /// An input error at the first place the scene's text holds `needle`.

@@ -22,8 +22,8 @@
 
 use rayon::prelude::*;
 
-use crate::discretize::Vec3;
-use crate::neighbours::BondList;
+use crate::case::neighbours::BondList;
+use crate::math::Vec3;
 
 /// Particles per work item of the summing pass.
 const CHUNK: usize = 1024;
@@ -523,7 +523,7 @@ unsafe fn bond_group_sum<const SCATTER: bool, const SMALL: bool>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::neighbours::build_bonds;
+    use crate::case::neighbours::build_bonds;
 
     /// Forces of the pair pass against a direct sum over directed bonds, for both
     /// kinematics and several thread counts.

@@ -10,12 +10,32 @@
 //! surface particles that face the master and lie within `0.8 a` of the contact centre, whether
 //! they carry force or not; (2) the radius (or half-width) of a least-squares fit of the
 //! reference profile, relative to the theory; (3) force balance `|Σ F_contact − P| / P`.
-//! Pressures are per undeformed tributary area.
+//! Pressures are per undeformed tributary area ([`contact_pressure`], which the frames write
+//! too).
 
 use crate::body::Body;
-use crate::discretize::Vec3;
+use crate::math::Vec3;
 use crate::model::Model;
-use crate::output::contact_pressure;
+
+/// Contact pressure per particle: normal contact force over undeformed tributary area
+/// (METHOD.md §5). The penalty force acts along the master segment's normal, so its magnitude
+/// is the normal contact force; frictionless contact has no other component.
+pub fn contact_pressure(model: &Model, body: usize) -> Vec<f64> {
+    let Some(pd) = model.bodies[body].as_pd() else {
+        return Vec::new();
+    };
+    let area = &pd.case.segments.tributary_area;
+    (0..pd.len())
+        .map(|i| {
+            let f = pd.contact_force[i].norm();
+            if area[i] > 0.0 && f > 0.0 {
+                f / area[i]
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
 
 /// Hertz sphere on a rigid plane: contact radius and peak pressure.
 pub fn hertz_sphere(load: f64, radius: f64, e_star: f64) -> (f64, f64) {

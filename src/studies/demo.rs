@@ -10,16 +10,14 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use crate::analysis::{contact_patch, e_star_rigid, elliptic_accuracy, hertz_sphere, Accuracy};
 use crate::error::{Error, Result};
+use crate::output::analysis::{
+    contact_patch, e_star_rigid, elliptic_accuracy, hertz_sphere, Accuracy,
+};
+use crate::output::vtk::write_atomically;
 use crate::run::{run_scene, RunOptions, RunSummary};
 use crate::scene::Scene;
-use crate::vtk::write_atomically;
-
-/// The embedded sphere mesh.
-pub const SPHERE_MESH: &[u8] = include_bytes!("../meshes/sphere_r1_d008.msh");
-/// Its file name.
-pub const SPHERE_MESH_NAME: &str = "sphere_r1_d008.msh";
+use crate::studies::scenarios::{SPHERE_MESH, SPHERE_MESH_NAME};
 
 /// Sphere radius, Young's modulus, Poisson's ratio and load of the demo.
 pub const RADIUS: f64 = 1.0;

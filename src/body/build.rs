@@ -1,0 +1,398 @@
+//! A body built from its `[[body]]` of a scene: the mesh read (or generated) and transformed,
+//! cut at its symmetry planes, turned into a PD case (deformable) or a set of faces (rigid)
+//! (METHOD.md §1, §4, §6). The scene has checked the spec's values (scene/check.rs); what
+//! only the mesh shows is reported here, at the body's line.
+
+use nalgebra::{Rotation3, Unit};
+use pdcontact_importers::{boundary_faces, read_path, ElementKind, Format, Mesh};
+
+use super::{Body, Material, PdBody, RigidBody};
+use crate::case::correction::CorrectionMethod;
+use crate::case::generators;
+use crate::case::segments::{quad_area_normal, MasterSegment};
+use crate::case::{CaseOptions, PdCase, SymmetryPlane, DEFAULT_HORIZON_FACTOR};
+use crate::error::{Error, Result};
+use crate::math::{Vec3, NOT_A_PARTICLE};
+use crate::scene::{box_corner, BodyKind, BodySpec, Scene, Side};
+
+/// Loads the mesh of a body spec (file or generator), transformed.
+pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
+    let mut mesh = if let Some(path) = &spec.mesh {
+        let path = scene.resolve(path);
+        let format = spec
+            .format
+            .as_deref()
+            .map(|f| Format::from_name(f).expect("mesh format checked by the scene"));
+        if !path.exists() {
+            return Err(scene.error_in_body(
+                &spec.name,
+                &format!(
+                    "mesh = \"{}\"",
+                    spec.mesh
+                        .as_ref()
+                        .map(|p| p.display().to_string())
+                        .unwrap_or_default()
+                ),
+                &format!(
+                    "body \"{}\": mesh file {} does not exist",
+                    spec.name,
+                    path.display()
+                ),
+            ));
+        }
+        read_path(&path, format)?
+    } else if let Some(g) = &spec.generator {
+        // The scene has checked every dimension (scene/check.rs): each is there and positive.
+        let need = |v: Option<f64>| v.expect("generator checked by the scene");
+        let centre = Vec3::from(g.center.unwrap_or([0.0; 3]));
+        let spacing = || need(g.spacing.or(spec.spacing));
+        let mut m = match g.shape.as_str() {
+            "sphere" => generators::sphere(need(g.radius), spacing()),
+            "cylinder" => generators::cylinder(need(g.radius), need(g.length), spacing()),
+            "box" => {
+                let corner = |v| box_corner(v).expect("box checked by the scene");
+                generators::cuboid(corner(&g.min), corner(&g.max), spacing())
+            }
+            "sphere_cap" | "cylinder_cap" => {
+                let r = need(g.radius);
+                let shape = if g.shape == "sphere_cap" {
+                    generators::CapShape::Sphere(r)
+                } else {
+                    generators::CapShape::Cylinder {
+                        radius: r,
+                        thickness: need(g.length),
+                    }
+                };
+                generators::cap(shape, need(g.half_width), need(g.depth), spacing())
+            }
+            "plane" => return Ok(None),
+            other => unreachable!("generator shape \"{other}\" checked by the scene"),
+        };
+        if !matches!(g.shape.as_str(), "box") {
+            for p in &mut m.coords {
+                *p = (Vec3::from(*p) + centre).into();
+            }
+        }
+        m
+    } else {
+        unreachable!("a body without mesh or generator is refused by the scene")
+    };
+    transform(&mut mesh, spec);
+    Ok(Some(mesh))
+}
+
+/// Applies scale, then rotation, then translation to a mesh.
+fn transform(mesh: &mut Mesh, spec: &BodySpec) {
+    let mut points: Vec<Vec3> = mesh.coords.iter().map(|p| Vec3::from(*p)).collect();
+    transform_points(&mut points, spec);
+    for (c, p) in mesh.coords.iter_mut().zip(points) {
+        *c = p.into();
+    }
+}
+
+/// Applies scale, then rotation, then translation to points.
+fn transform_points(points: &mut [Vec3], spec: &BodySpec) {
+    let scale = spec.scale.unwrap_or(1.0);
+    let rotation = spec.rotate.as_ref().and_then(|r| {
+        let axis = Vec3::from(r.axis);
+        (axis.norm() > 0.0).then(|| {
+            (
+                Rotation3::from_axis_angle(&Unit::new_normalize(axis), r.angle_deg.to_radians()),
+                Vec3::from(r.center.unwrap_or([0.0; 3])),
+            )
+        })
+    });
+    let shift = Vec3::from(spec.translate.unwrap_or([0.0; 3]));
+    for p in points {
+        let mut x = *p * scale;
+        if let Some((rot, c)) = &rotation {
+            x = rot * (x - c) + c;
+        }
+        *p = x + shift;
+    }
+}
+
+/// Keeps the elements on one side of the plane `x_axis = at` and the nodes they use.
+///
+/// Errors when an element has corners strictly on both sides: the mesh must be cut along the
+/// plane for a symmetric model to be exact.
+pub fn clip_mesh(
+    mesh: &Mesh,
+    axis: usize,
+    at: f64,
+    keep_positive: bool,
+    tol: f64,
+) -> std::result::Result<Mesh, String> {
+    let side = |n: u32| {
+        let d = mesh.coords[n as usize][axis] - at;
+        if d > tol {
+            1
+        } else if d < -tol {
+            -1
+        } else {
+            0
+        }
+    };
+    let want = if keep_positive { 1 } else { -1 };
+    let mut out = Mesh::new();
+    let mut new_index = vec![u32::MAX; mesh.node_count()];
+    let mut kept_elements = vec![u32::MAX; mesh.element_count()];
+    for e in mesh.elements() {
+        let sides: Vec<i32> = e
+            .nodes
+            .iter()
+            .filter(|&&n| n != pdcontact_importers::MISSING_NODE)
+            .map(|&n| side(n))
+            .collect();
+        let has = |s: i32| sides.contains(&s);
+        if has(1) && has(-1) {
+            return Err(format!(
+                "element {} crosses the symmetry plane {} = {at}: the mesh must be cut along the plane",
+                e.id,
+                ["x", "y", "z"][axis]
+            ));
+        }
+        if !has(want) && e.kind.is_solid() {
+            continue;
+        }
+        if !has(want) && !sides.iter().all(|&s| s == 0) {
+            continue;
+        }
+        let nodes: Vec<u32> = e
+            .nodes
+            .iter()
+            .map(|&n| {
+                if n == pdcontact_importers::MISSING_NODE {
+                    return n;
+                }
+                if new_index[n as usize] == u32::MAX {
+                    new_index[n as usize] =
+                        out.push_node(mesh.node_ids[n as usize], mesh.coords[n as usize]);
+                }
+                new_index[n as usize]
+            })
+            .collect();
+        kept_elements[e.index as usize] = out.push_element(e.id, e.kind, &nodes);
+    }
+    for s in &mesh.sets {
+        let mut set = s.clone();
+        if let Some(nodes) = &mut set.nodes {
+            *nodes = nodes
+                .iter()
+                .map(|&n| new_index[n as usize])
+                .filter(|&n| n != u32::MAX)
+                .collect();
+            nodes.sort_unstable();
+        }
+        if let Some(elements) = &mut set.elements {
+            *elements = elements
+                .iter()
+                .map(|&e| kept_elements[e as usize])
+                .filter(|&e| e != u32::MAX)
+                .collect();
+        }
+        out.sets.push(set);
+    }
+    out.warnings = mesh.warnings.clone();
+    Ok(out)
+}
+
+/// Builds the body of a spec.
+pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
+    let mut mesh = body_mesh(scene, spec)?;
+    if let Some(m) = &mut mesh {
+        for s in scene.symmetries.iter().filter(|s| s.body == spec.name) {
+            let axis = s.axis.index();
+            let (lo, hi) = m.bbox().unwrap_or(([0.0; 3], [0.0; 3]));
+            let tol = 1e-9 * (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+            *m = clip_mesh(m, axis, s.at, s.keep == Side::Positive, tol).map_err(|msg| {
+                scene.error_in_body(
+                    &spec.name,
+                    &format!("axis = \"{}\"", s.axis.name()),
+                    &format!("body \"{}\": {msg}", spec.name),
+                )
+            })?;
+            if spec.kind == BodyKind::Deformable && m.solids().next().is_none() {
+                return Err(scene.error_in_body(
+                    &spec.name,
+                    "",
+                    &format!(
+                        "body \"{}\" has no particles: the symmetry plane {} = {} (keep = \"{}\") leaves none of its elements",
+                        spec.name,
+                        s.axis.name(),
+                        s.at,
+                        s.keep.name()
+                    ),
+                ));
+            }
+        }
+    }
+    match spec.kind {
+        BodyKind::Deformable => {
+            // The scene refuses a deformable plane and a deformable body without a material.
+            let mesh = mesh.expect("a deformable body has a mesh");
+            let m = spec.material.expect("material checked by the scene");
+            let symmetry = scene
+                .symmetries
+                .iter()
+                .filter(|s| s.body == spec.name)
+                .map(|s| SymmetryPlane {
+                    axis: s.axis.index(),
+                    at: s.at,
+                })
+                .collect();
+            let options = CaseOptions {
+                spacing: spec.spacing,
+                horizon_factor: spec.horizon_factor.unwrap_or(DEFAULT_HORIZON_FACTOR),
+                correction: spec
+                    .surface_correction
+                    .unwrap_or(CorrectionMethod::Balanced),
+                symmetry,
+            };
+            let case = PdCase::build(mesh, options).map_err(|e| match e {
+                Error::Input(msg) => {
+                    scene.error_in_body(&spec.name, "", &format!("body \"{}\": {msg}", spec.name))
+                }
+                other => other,
+            })?;
+            if case.particles.is_empty() {
+                return Err(scene.error_in_body(
+                    &spec.name,
+                    "",
+                    &format!("body \"{}\" has no particles", spec.name),
+                ));
+            }
+            let mut body = PdBody::new(
+                &spec.name,
+                case,
+                Material {
+                    youngs: m.youngs_modulus,
+                    poisson: m.poisson_ratio,
+                    density: m.density,
+                },
+            );
+            body.kinematics = spec.kinematics;
+            if let Some(v) = spec.velocity {
+                body.set_velocity(Vec3::from(v));
+            }
+            Ok(Body::Deformable(Box::new(body)))
+        }
+        BodyKind::Rigid => {
+            let (vertices, faces) = match mesh {
+                Some(mesh) => rigid_faces(&mesh),
+                None => plane_faces(spec),
+            };
+            if faces.is_empty() {
+                return Err(scene.error_in_body(&spec.name,
+                    "name",
+                    &format!("rigid body \"{}\" has no faces (a mesh of 3D solids, or of shells, is needed)", spec.name),
+                ));
+            }
+            let axis = Vec3::from(spec.free_axis.unwrap_or([0.0, 0.0, 1.0]));
+            Ok(Body::Rigid(Box::new(RigidBody {
+                name: spec.name.clone(),
+                vertices,
+                faces,
+                material: spec.material.map(|m| Material {
+                    youngs: m.youngs_modulus,
+                    poisson: m.poisson_ratio,
+                    density: m.density,
+                }),
+                motion: spec.motion,
+                velocity: Vec3::from(spec.motion_velocity.unwrap_or([0.0; 3])),
+                axis: if axis.norm() > 0.0 {
+                    axis.normalize()
+                } else {
+                    Vec3::z()
+                },
+                mass: spec.mass.unwrap_or(0.0),
+                translation: Vec3::zeros(),
+                axial_speed: 0.0,
+                load: Vec3::zeros(),
+                contact_force: Vec3::zeros(),
+                contact_stiffness: 0.0,
+            })))
+        }
+    }
+}
+
+/// Faces of a rigid mesh: boundary faces of its solids, or its 2-D elements as written.
+fn rigid_faces(mesh: &Mesh) -> (Vec<Vec3>, Vec<MasterSegment>) {
+    let vertices: Vec<Vec3> = mesh.coords.iter().map(|p| Vec3::from(*p)).collect();
+    let mut quads: Vec<[u32; 4]> = boundary_faces(mesh)
+        .boundary
+        .iter()
+        .map(|f| f.nodes)
+        .collect();
+    if quads.is_empty() {
+        for e in mesh.elements() {
+            let c = e.corners();
+            match e.kind {
+                ElementKind::Triangle => quads.push([c[0], c[1], c[2], c[2]]),
+                ElementKind::Quadrilateral => quads.push([c[0], c[1], c[2], c[3]]),
+                _ => {}
+            }
+        }
+    }
+    let faces = quads
+        .into_iter()
+        .filter(|q| q.iter().all(|&n| n != NOT_A_PARTICLE))
+        .map(|nodes| {
+            let (area, normal) = quad_area_normal(nodes.map(|n| vertices[n as usize]));
+            MasterSegment {
+                nodes,
+                area,
+                normal,
+            }
+        })
+        .filter(|s| s.area > 0.0)
+        .collect();
+    (vertices, faces)
+}
+
+/// A square patch of `divisions²` quads centred at `point`, facing `normal`.
+fn plane_faces(spec: &BodySpec) -> (Vec<Vec3>, Vec<MasterSegment>) {
+    // The scene has checked that a plane has a point, a non-zero normal and a positive size.
+    let g = spec
+        .generator
+        .as_ref()
+        .expect("a rigid body without mesh is a plane");
+    let (Some(point), Some(normal), Some(size)) = (g.point, g.normal, g.size) else {
+        unreachable!("plane checked by the scene")
+    };
+    let n = Vec3::from(normal);
+    let n = n.normalize();
+    let t1 = if n.x.abs() < 0.9 {
+        Vec3::x()
+    } else {
+        Vec3::y()
+    };
+    let e1 = (t1 - n * n.dot(&t1)).normalize();
+    let e2 = n.cross(&e1);
+    let k = g.divisions.unwrap_or(1).max(1);
+    let p0 = Vec3::from(point);
+    let mut vertices = Vec::with_capacity((k + 1) * (k + 1));
+    for j in 0..=k {
+        for i in 0..=k {
+            let a = -0.5 * size + size * i as f64 / k as f64;
+            let b = -0.5 * size + size * j as f64 / k as f64;
+            vertices.push(p0 + e1 * a + e2 * b);
+        }
+    }
+    let mut faces = Vec::with_capacity(k * k);
+    for j in 0..k {
+        for i in 0..k {
+            let v = |ii: usize, jj: usize| (ii + (k + 1) * jj) as u32;
+            // e1 × e2 = n: counter-clockwise seen from the normal side.
+            let nodes = [v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)];
+            let (area, normal) = quad_area_normal(nodes.map(|q| vertices[q as usize]));
+            faces.push(MasterSegment {
+                nodes,
+                area,
+                normal,
+            });
+        }
+    }
+    transform_points(&mut vertices, spec);
+    (vertices, faces)
+}

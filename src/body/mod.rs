@@ -1,0 +1,299 @@
+//! Bodies of a scene: deformable PD bodies (particles and bonds) and rigid surfaces
+//! (METHOD.md §4-6).
+//!
+//! A deformable body stores, per directed bond, the partner, the reference length `L` and the
+//! weight `w = c G v_c V_i V_j / L` (N/m), so that the bond's force on particle `i` is
+//! `w (|y| − L) y/|y|` with `y` the deformed bond: Eq. 26 (`c s n`) times the volumes, with the
+//! surface factor `G` and the volume correction `v_c` folded in once. Because `G` and `v_c` are
+//! symmetric, `w_ij = w_ji`: internal forces are equal and opposite and sum to zero.
+//!
+//! This module holds the body types; `build.rs` builds them from a scene ([`build_body`]).
+
+mod build;
+
+pub use build::{body_mesh, build_body, clip_mesh};
+
+use crate::case::correction::micromodulus;
+use crate::case::pairs::{ForceBuffers, PairList};
+use crate::case::segments::MasterSegment;
+use crate::case::PdCase;
+use crate::math::Vec3;
+use crate::scene::{Kinematics, Motion};
+
+/// Linear elastic material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    pub youngs: f64,
+    pub poisson: f64,
+    pub density: f64,
+}
+
+impl Material {
+    /// `m = (1 − ν²)/E` of Eq. 24.
+    pub fn compliance(&self) -> f64 {
+        (1.0 - self.poisson * self.poisson) / self.youngs
+    }
+}
+
+/// Bit mask of fixed displacement components.
+pub type FixMask = u8;
+/// x fixed.
+pub const FIX_X: FixMask = 1;
+/// y fixed.
+pub const FIX_Y: FixMask = 2;
+/// z fixed.
+pub const FIX_Z: FixMask = 4;
+
+/// A deformable PD body and its state.
+#[derive(Clone, Debug)]
+pub struct PdBody {
+    pub name: String,
+    pub case: PdCase,
+    pub material: Material,
+    /// Bond kinematics.
+    pub kinematics: Kinematics,
+    /// Reference positions of the particles followed by their mirror images.
+    pub reference: Vec<Vec3>,
+    /// Micromodulus `c`.
+    pub micromodulus: f64,
+    /// Per directed bond: `c G v_c V_i V_j / L`, N/m.
+    pub bond_weight: Vec<f32>,
+    /// Per particle: `Σ_j w_ij`, the sum of its bond stiffnesses (N/m).
+    pub stiffness: Vec<f64>,
+    /// The bonds each pair once, with their weights: what the force pass walks.
+    pub pairs: PairList,
+    /// Per-thread scratch of the force pass.
+    pub force_buffers: ForceBuffers,
+    /// `ρ V_i`.
+    pub mass: Vec<f64>,
+    /// Fixed components per particle (supports and symmetry planes).
+    pub fixed: Vec<FixMask>,
+    /// The components of `fixed` that symmetry planes hold (not supports).
+    pub symmetric: Vec<FixMask>,
+    /// Applied force per particle, N.
+    pub load: Vec<Vec3>,
+    /// Displacement.
+    pub u: Vec<Vec3>,
+    /// Velocity.
+    pub v: Vec<Vec3>,
+    /// Total force (internal + applied + contact), N.
+    pub force: Vec<Vec3>,
+    /// Contact force alone, N.
+    pub contact_force: Vec<Vec3>,
+    /// Extra stiffness from contact, for ADR's fictitious density and the stable step (N/m).
+    pub contact_stiffness: Vec<f64>,
+}
+
+impl PdBody {
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.u.len()
+    }
+
+    /// True without particles.
+    pub fn is_empty(&self) -> bool {
+        self.u.is_empty()
+    }
+
+    /// Current position of particle `i`.
+    #[inline]
+    pub fn position(&self, i: usize) -> Vec3 {
+        self.case.particles.position[i] + self.u[i]
+    }
+
+    /// Grid spacing Δ.
+    pub fn spacing(&self) -> f64 {
+        self.case.particles.spacing
+    }
+
+    /// Master segments.
+    pub fn segments(&self) -> &[MasterSegment] {
+        &self.case.segments.segments
+    }
+
+    /// Builds the body from a PD case and a material.
+    pub fn new(name: &str, case: PdCase, material: Material) -> PdBody {
+        let c = micromodulus(material.youngs, case.horizon);
+        let n = case.particles.len();
+        let vol = &case.particles.volume;
+        let partner_vol = case.ghosts.partner_volumes(vol);
+        let bonds = &case.bonds;
+        let mut bond_weight = Vec::with_capacity(bonds.len());
+        let mut stiffness = vec![0.0; n];
+        for i in 0..n {
+            for b in bonds.range(i) {
+                let j = bonds.partner[b] as usize;
+                let w =
+                    c * case.correction.bond_factor[b] * vol[i] * partner_vol[j] / bonds.length(b);
+                bond_weight.push(w as f32);
+                stiffness[i] += w;
+            }
+        }
+        // Particles on a symmetry plane cannot move across it.
+        let fixed: Vec<FixMask> = (0..n)
+            .map(|i| {
+                case.ghosts
+                    .planes
+                    .iter()
+                    .enumerate()
+                    .filter(|(k, _)| case.ghosts.on_plane[i] & (1 << k) != 0)
+                    .fold(0, |m, (_, pl)| m | (1 << pl.axis))
+            })
+            .collect();
+        let mut reference = Vec::new();
+        case.ghosts
+            .extend_positions(&case.particles.position, &mut reference);
+        let symmetric: Vec<FixMask> = fixed.clone();
+        PdBody {
+            name: name.to_string(),
+            symmetric,
+            kinematics: Kinematics::Finite,
+            reference,
+            micromodulus: c,
+            mass: vol[..n].iter().map(|v| v * material.density).collect(),
+            fixed,
+            load: vec![Vec3::zeros(); n],
+            u: vec![Vec3::zeros(); n],
+            v: vec![Vec3::zeros(); n],
+            force: vec![Vec3::zeros(); n],
+            contact_force: vec![Vec3::zeros(); n],
+            contact_stiffness: vec![0.0; n],
+            pairs: PairList::from_bonds(
+                bonds,
+                &bond_weight,
+                &(0..n).map(|i| case.ghosts.share(i)).collect::<Vec<_>>(),
+                n,
+            ),
+            force_buffers: ForceBuffers::default(),
+            bond_weight,
+            stiffness,
+            case,
+            material,
+        }
+    }
+
+    /// Sets the velocity of every particle.
+    pub fn set_velocity(&mut self, v: Vec3) {
+        self.v.iter_mut().for_each(|x| *x = v);
+    }
+
+    /// Current positions of the particles followed by their mirror images.
+    pub fn extended_positions(&self, out: &mut Vec<Vec3>) {
+        let real: Vec<Vec3> = (0..self.len()).map(|i| self.position(i)).collect();
+        self.case.ghosts.extend_positions(&real, out);
+    }
+
+    /// Strain energy `¼ Σ_directed w (|y| − L)²` (each pair counted twice; a bond to a mirror
+    /// image carries the half of its mirrored pair that belongs to this model).
+    pub fn strain_energy(&self) -> f64 {
+        let bonds = &self.case.bonds;
+        let mut pos = Vec::new();
+        self.extended_positions(&mut pos);
+        (0..self.len())
+            .map(|i| {
+                let yi = pos[i];
+                bonds
+                    .range(i)
+                    .map(|b| {
+                        let j = bonds.partner[b] as usize;
+                        let stretch = match self.kinematics {
+                            Kinematics::Finite => (pos[j] - yi).norm() - bonds.length(b),
+                            Kinematics::Small => {
+                                let xi = self.reference[j] - self.reference[i];
+                                (pos[j] - yi - xi).dot(&xi) / bonds.length(b)
+                            }
+                        };
+                        0.25 * f64::from(self.bond_weight[b]) * stretch * stretch
+                    })
+                    .sum::<f64>()
+            })
+            .sum()
+    }
+
+    /// Kinetic energy.
+    pub fn kinetic_energy(&self) -> f64 {
+        self.v
+            .iter()
+            .zip(&self.mass)
+            .map(|(v, m)| 0.5 * m * v.norm_squared())
+            .sum()
+    }
+}
+
+/// A rigid surface: faces only, moved as a whole.
+#[derive(Clone, Debug)]
+pub struct RigidBody {
+    pub name: String,
+    /// Reference vertex positions.
+    pub vertices: Vec<Vec3>,
+    /// Outward faces (`[a, b, c, c]` for triangles).
+    pub faces: Vec<MasterSegment>,
+    /// Material for the contact stiffness; `None` is infinitely stiff (`m = 0` in Eq. 24).
+    pub material: Option<Material>,
+    pub motion: Motion,
+    /// Prescribed velocity (`Motion::Velocity`).
+    pub velocity: Vec3,
+    /// Unit axis (`Motion::Free`).
+    pub axis: Vec3,
+    /// Mass (`Motion::Free`, explicit runs).
+    pub mass: f64,
+    /// Current translation from the reference position.
+    pub translation: Vec3,
+    /// Speed along `axis` (`Motion::Free`).
+    pub axial_speed: f64,
+    /// Total applied force, N.
+    pub load: Vec3,
+    /// Total contact force on the body, N.
+    pub contact_force: Vec3,
+    /// Contact stiffness along the axis (for ADR's fictitious density).
+    pub contact_stiffness: f64,
+}
+
+impl RigidBody {
+    /// Current position of vertex `i`.
+    #[inline]
+    pub fn position(&self, i: usize) -> Vec3 {
+        self.vertices[i] + self.translation
+    }
+}
+
+/// A body of a scene.
+#[derive(Clone, Debug)]
+pub enum Body {
+    Deformable(Box<PdBody>),
+    Rigid(Box<RigidBody>),
+}
+
+impl Body {
+    /// The body's name.
+    pub fn name(&self) -> &str {
+        match self {
+            Body::Deformable(b) => &b.name,
+            Body::Rigid(b) => &b.name,
+        }
+    }
+
+    /// The deformable body, if it is one.
+    pub fn as_pd(&self) -> Option<&PdBody> {
+        match self {
+            Body::Deformable(b) => Some(b),
+            Body::Rigid(_) => None,
+        }
+    }
+
+    /// The deformable body, mutably.
+    pub fn as_pd_mut(&mut self) -> Option<&mut PdBody> {
+        match self {
+            Body::Deformable(b) => Some(b),
+            Body::Rigid(_) => None,
+        }
+    }
+
+    /// The rigid body, if it is one.
+    pub fn as_rigid(&self) -> Option<&RigidBody> {
+        match self {
+            Body::Rigid(b) => Some(b),
+            Body::Deformable(_) => None,
+        }
+    }
+}

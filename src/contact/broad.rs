@@ -1,0 +1,126 @@
+//! The broad phase of point-to-surface contact (paper Sec. 2.2.2, Eq. 17, METHOD.md §5): the
+//! Verlet list of candidate master segments per slave, and the rule that rebuilds it only when
+//! the two largest displacements since the last rebuild exceed the skin.
+
+use rayon::prelude::*;
+
+use super::{ContactPass, MasterView};
+use crate::body::{Body, PdBody};
+use crate::case::neighbours::CellGrid;
+use crate::math::Vec3;
+
+/// The Verlet list of one pass: candidate segments per slave.
+#[derive(Clone, Debug, Default)]
+pub struct VerletList {
+    /// `offsets[k]..offsets[k+1]` are slave `k`'s candidates in `candidates`.
+    pub(super) offsets: Vec<u32>,
+    pub(super) candidates: Vec<u32>,
+    /// Positions of the slaves and master nodes at the last rebuild.
+    slave_ref: Vec<Vec3>,
+    master_ref: Vec<Vec3>,
+    /// Rebuilds so far.
+    pub rebuilds: usize,
+    built: bool,
+}
+
+impl ContactPass {
+    /// Whether the two largest displacements since the last rebuild exceed the skin.
+    pub(super) fn needs_rebuild(&self, sb: &PdBody, view: MasterView<'_>) -> bool {
+        if !self.verlet.built {
+            return true;
+        }
+        let mut top = [0.0f64; 2];
+        let mut push = |d: f64| {
+            if d > top[0] {
+                top[1] = top[0];
+                top[0] = d;
+            } else if d > top[1] {
+                top[1] = d;
+            }
+        };
+        for (k, &s) in self.slaves.iter().enumerate() {
+            push((sb.position(s as usize) - self.verlet.slave_ref[k]).norm());
+        }
+        for (k, &n) in self.master_nodes.iter().enumerate() {
+            push((view.node(n) - self.verlet.master_ref[k]).norm());
+        }
+        top[0] + top[1] > self.skin
+    }
+
+    /// Rebuilds the candidate lists from current positions.
+    pub(super) fn rebuild(&mut self, sb: &PdBody, view: MasterView<'_>) {
+        let radius = self.cutoff + self.skin;
+        let master_pos: Vec<Vec3> = self.master_nodes.iter().map(|&n| view.node(n)).collect();
+        let grid = CellGrid::new(&master_pos, radius);
+        let segs = view.segments();
+        let big: Vec<(u32, Vec3, Vec3)> = self
+            .big_segments
+            .iter()
+            .map(|&k| {
+                let c = view.corners(k as usize);
+                let lo = c.iter().fold(Vec3::repeat(f64::INFINITY), |a, p| a.inf(p));
+                let hi = c
+                    .iter()
+                    .fold(Vec3::repeat(f64::NEG_INFINITY), |a, p| a.sup(p));
+                (k, lo - Vec3::repeat(radius), hi + Vec3::repeat(radius))
+            })
+            .collect();
+        let lists: Vec<Vec<u32>> = self
+            .slaves
+            .par_iter()
+            .map(|&s| {
+                let p = sb.position(s as usize);
+                let mut out = Vec::new();
+                grid.for_each_candidate(&p, radius, |m| {
+                    if (master_pos[m as usize] - p).norm_squared() <= radius * radius {
+                        let node = self.master_nodes[m as usize] as usize;
+                        let (a, b) = (
+                            self.node_seg_offsets[node] as usize,
+                            self.node_seg_offsets[node + 1] as usize,
+                        );
+                        out.extend_from_slice(&self.node_segs[a..b]);
+                    }
+                });
+                for (k, lo, hi) in &big {
+                    if (0..3).all(|d| p[d] >= lo[d] && p[d] <= hi[d]) {
+                        out.push(*k);
+                    }
+                }
+                out.sort_unstable();
+                out.dedup();
+                out
+            })
+            .collect();
+        let _ = segs;
+        let v = &mut self.verlet;
+        v.offsets.clear();
+        v.candidates.clear();
+        v.offsets.push(0);
+        for l in lists {
+            v.candidates.extend_from_slice(&l);
+            v.offsets.push(v.candidates.len() as u32);
+        }
+        v.slave_ref = self
+            .slaves
+            .iter()
+            .map(|&s| sb.position(s as usize))
+            .collect();
+        v.master_ref = master_pos;
+        v.rebuilds += 1;
+        v.built = true;
+    }
+
+    /// Rebuilds the Verlet list now, whatever the motion since the last rebuild (for timing).
+    pub fn rebuild_verlet(&mut self, bodies: &[Body]) {
+        let sb = bodies[self.slave].as_pd().expect("slave is deformable");
+        self.rebuild(sb, MasterView::of(&bodies[self.master]));
+    }
+}
+
+pub(super) fn distinct(nodes: &[u32; 4]) -> impl Iterator<Item = u32> + '_ {
+    nodes
+        .iter()
+        .enumerate()
+        .filter(|(k, n)| !nodes[..*k].contains(n))
+        .map(|(_, &n)| n)
+}

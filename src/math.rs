@@ -1,0 +1,10 @@
+//! The small vocabulary every stage shares: the 3-vector type and the marker of a mesh node
+//! that is not a particle (as parry keeps its `math` module at the crate root).
+
+use nalgebra::Vector3;
+
+/// A 3-vector of f64.
+pub type Vec3 = Vector3<f64>;
+
+/// Marks a mesh node that is not a particle.
+pub const NOT_A_PARTICLE: u32 = u32::MAX;

@@ -1,0 +1,13 @@
+//! Output: what a run leaves behind, and the figures read from it.
+//!
+//! | what | module |
+//! |---|---|
+//! | VTK XML files (`.vtu`, `.pvd`), written atomically | [`vtk`] |
+//! | the frames of a run, `run.pvd`, progress on stderr | [`frames`] |
+//! | contact pressure, contact patch, Hertz and Sadowsky references | [`analysis`] |
+
+pub mod analysis;
+pub mod frames;
+pub mod vtk;
+
+pub use frames::{FrameWriter, RunMonitor, PVD_NAME};

@@ -1,0 +1,380 @@
+//! Adaptive dynamic relaxation (Kilic & Madenci 2010; paper Sec. 2.3, Eqs. 27-33, METHOD.md
+//! §6): the fictitious diagonal density from Gershgorin's bound on the bond and contact
+//! stiffness (Eq. 31), the damping of Eq. 33, the velocity update of Eq. 29 with its sign
+//! corrected, and the load applied in equal increments.
+
+use rayon::prelude::*;
+
+use super::{check_missed, free_factor, Monitor, RunStats};
+use crate::body::Body;
+use crate::error::{Error, Result};
+use crate::math::Vec3;
+use crate::model::Model;
+use crate::reduction::ordered_reduce;
+use crate::scene::Motion;
+
+/// Gershgorin factor of a penalty contact block `k n⊗n` and its reaction: ½ max_α |n_α| ‖n‖₁.
+const CONTACT_ROW: f64 = 0.683;
+
+/// ADR's Gershgorin density of the bonds, per particle: ½ max_α Σ_j w_ij |n_α| ‖n‖₁.
+fn bond_density(model: &Model) -> Vec<Vec<f64>> {
+    model
+        .bodies
+        .iter()
+        .map(|b| match b {
+            Body::Deformable(pd) => {
+                let mut x = Vec::new();
+                pd.case
+                    .ghosts
+                    .extend_positions(&pd.case.particles.position, &mut x);
+                let bonds = &pd.case.bonds;
+                (0..pd.len())
+                    .into_par_iter()
+                    .map(|i| {
+                        let mut row = [0.0f64; 3];
+                        for b in bonds.range(i) {
+                            let n = (x[bonds.partner[b] as usize] - x[i]) / bonds.length(b);
+                            let l1 = n.x.abs() + n.y.abs() + n.z.abs();
+                            for a in 0..3 {
+                                row[a] += f64::from(pd.bond_weight[b]) * n[a].abs() * l1;
+                            }
+                        }
+                        0.5 * row[0].max(row[1]).max(row[2])
+                    })
+                    .collect()
+            }
+            Body::Rigid(_) => Vec::new(),
+        })
+        .collect()
+}
+
+/// Norm of the applied loads (the ADR reference force).
+fn applied_norm(model: &Model) -> f64 {
+    let mut s = 0.0;
+    for b in &model.bodies {
+        match b {
+            Body::Deformable(pd) => {
+                for (f, &m) in pd.load.iter().zip(&pd.fixed) {
+                    s += f.component_mul(&free_factor(m)).norm_squared();
+                }
+            }
+            Body::Rigid(rb) if rb.motion == Motion::Free => s += rb.load.dot(&rb.axis).powi(2),
+            Body::Rigid(_) => {}
+        }
+    }
+    s.sqrt()
+}
+
+/// What ADR's per-iteration pass sums over the particles.
+#[derive(Clone, Copy, Debug)]
+struct AdrSums {
+    /// Every displacement and force component finite.
+    finite: bool,
+    /// `‖R‖₂²` over free degrees of freedom.
+    residual: f64,
+    /// Numerator and denominator of the damping's Rayleigh quotient (Eq. 33).
+    num: f64,
+    den: f64,
+}
+
+impl Default for AdrSums {
+    fn default() -> AdrSums {
+        AdrSums {
+            finite: true,
+            residual: 0.0,
+            num: 0.0,
+            den: 0.0,
+        }
+    }
+}
+
+impl AdrSums {
+    fn add(self, o: AdrSums) -> AdrSums {
+        AdrSums {
+            finite: self.finite && o.finite,
+            residual: self.residual + o.residual,
+            num: self.num + o.num,
+            den: self.den + o.den,
+        }
+    }
+}
+
+/// Adaptive dynamic relaxation to a static equilibrium, the load applied in `load_steps` equal
+/// increments, each relaxed to `tolerance` before the next (1: all at once).
+///
+/// ADR reaches equilibrium by a damped pseudo-dynamic motion; under a load applied at once, a
+/// free rigid body overshoots its equilibrium before the damping catches it. Where the overshoot
+/// is large (a punch pressed at a tenth of E into a body with finite kinematics) the body can be
+/// driven into a state it does not come back from; increments keep each overshoot small.
+pub fn adr(
+    model: &mut Model,
+    tolerance: f64,
+    max_iterations: usize,
+    load_steps: usize,
+    monitor: &mut dyn Monitor,
+) -> Result<RunStats> {
+    // Without a load or a moving body the equilibrium is the reference state: there is
+    // nothing to iterate for, and no force to measure the residual against.
+    let driven = model.bodies.iter().any(|b| match b {
+        Body::Rigid(rb) => rb.motion == Motion::Velocity && rb.velocity.norm() > 0.0,
+        Body::Deformable(_) => false,
+    });
+    if !driven && !(applied_norm(model) > 0.0) {
+        return Err(Error::input(
+            "nothing loads the model: an ADR (static) run needs a [[load]] with a non-zero force on a body part that is free to move, or a rigid body with motion = \"velocity\"".to_string(),
+        ));
+    }
+    let density = bond_density(model);
+    let mut stats = RunStats {
+        solver: "adr".into(),
+        ..Default::default()
+    };
+    let steps = load_steps.max(1);
+    let full: Vec<(Vec<Vec3>, Vec3)> = model
+        .bodies
+        .iter()
+        .map(|b| match b {
+            Body::Deformable(pd) => (pd.load.clone(), Vec3::zeros()),
+            Body::Rigid(rb) => (Vec::new(), rb.load),
+        })
+        .collect();
+    let mut n = 0;
+    for step in 1..=steps {
+        let scale = step as f64 / steps as f64;
+        if steps > 1 {
+            for (b, (loads, rigid)) in model.bodies.iter_mut().zip(&full) {
+                match b {
+                    Body::Deformable(pd) => {
+                        for (l, f) in pd.load.iter_mut().zip(loads) {
+                            *l = f * scale;
+                        }
+                    }
+                    Body::Rigid(rb) => rb.load = rigid * scale,
+                }
+            }
+        }
+        n = adr_increment(
+            model,
+            &density,
+            tolerance,
+            max_iterations,
+            n,
+            monitor,
+            &mut stats,
+        )?;
+        if !stats.converged || stats.interrupted {
+            break;
+        }
+    }
+    monitor.finish(model, n, n as f64)?;
+    Ok(stats)
+}
+
+/// One ADR relaxation from the current state to equilibrium under the current loads (Eqs.
+/// 27-33), numbering iterations on from `n0`; returns the last iteration's number.
+fn adr_increment(
+    model: &mut Model,
+    density: &[Vec<f64>],
+    tolerance: f64,
+    max_iterations: usize,
+    n0: usize,
+    monitor: &mut dyn Monitor,
+    stats: &mut RunStats,
+) -> Result<usize> {
+    stats.converged = false;
+    let reference = applied_norm(model);
+    model.compute_forces();
+    let reference = if reference > 0.0 {
+        reference
+    } else {
+        // Displacement-driven scenes: measure against the contact forces.
+        model
+            .bodies
+            .iter()
+            .filter_map(Body::as_pd)
+            .flat_map(|pd| pd.contact_force.iter())
+            .map(|f| f.norm_squared())
+            .sum::<f64>()
+            .sqrt()
+            .max(f64::MIN_POSITIVE)
+    };
+    let nb = model.bodies.len();
+    let mut prev_f: Vec<Vec<Vec3>> = vec![Vec::new(); nb];
+    let mut prev_rf = vec![0.0f64; nb];
+    let mut rigid_lambda = vec![0.0f64; nb];
+    // The fictitious density of a particle: its bonds' plus its current contact stiffness.
+    // Computed where it is used, in the passes below, rather than stored.
+    fn lambda_of(density: &[f64], contact_stiffness: &[f64], i: usize) -> f64 {
+        density[i] + CONTACT_ROW * contact_stiffness[i]
+    }
+
+    let update_rigid_lambda = |model: &Model, rigid_lambda: &mut Vec<f64>| {
+        for (k, b) in model.bodies.iter().enumerate() {
+            match b {
+                Body::Rigid(rb) if rb.motion == Motion::Free => {
+                    // Before contact the free body has no stiffness: give it the density of
+                    // full contact so that it does not jump.
+                    let all: f64 = model
+                        .passes
+                        .iter()
+                        .filter(|p| p.master == k)
+                        .map(|p| p.weight * p.law.max_tangent() * p.slaves.len() as f64)
+                        .sum();
+                    rigid_lambda[k] = rb.contact_stiffness.max(0.05 * all).max(f64::MIN_POSITIVE);
+                }
+                Body::Rigid(_) | Body::Deformable(_) => {}
+            }
+        }
+    };
+    update_rigid_lambda(model, &mut rigid_lambda);
+
+    // Eq. 30: v^{1/2} = F⁰/(2λ); then u¹ = u⁰ + v^{1/2}.
+    for (k, b) in model.bodies.iter_mut().enumerate() {
+        match b {
+            Body::Deformable(pd) => {
+                for i in 0..pd.len() {
+                    let ff = free_factor(pd.fixed[i]);
+                    pd.v[i] = pd.force[i].component_mul(&ff)
+                        / (2.0 * lambda_of(&density[k], &pd.contact_stiffness, i));
+                    pd.u[i] += pd.v[i];
+                }
+                prev_f[k] = pd.force.clone();
+            }
+            Body::Rigid(rb) if rb.motion == Motion::Free => {
+                let f = (rb.load + rb.contact_force).dot(&rb.axis);
+                rb.axial_speed = f / (2.0 * rigid_lambda[k]);
+                rb.translation += rb.axis * rb.axial_speed;
+                prev_rf[k] = f;
+            }
+            Body::Rigid(_) => {}
+        }
+    }
+
+    let mut best = f64::INFINITY;
+    let mut n = n0;
+    loop {
+        n += 1;
+        model.compute_forces();
+        update_rigid_lambda(model, &mut rigid_lambda);
+        // One pass over each body's particles for the finiteness check, the residual and the
+        // damping's Rayleigh quotient (Eqs. 32-33): the bookkeeping of an iteration is then
+        // this pass and the update below, next to the force pass.
+        let mut sum = AdrSums::default();
+        for (k, b) in model.bodies.iter().enumerate() {
+            match b {
+                Body::Deformable(pd) => {
+                    let (dens, prev) = (&density[k], &prev_f[k]);
+                    let body = ordered_reduce(
+                        pd.len(),
+                        AdrSums::default,
+                        |i| {
+                            let ff = free_factor(pd.fixed[i]);
+                            let (u, v, f) = (pd.u[i], pd.v[i], pd.force[i]);
+                            let mut s = AdrSums {
+                                finite: u.iter().chain(f.iter()).all(|c| c.is_finite()),
+                                residual: f.component_mul(&ff).norm_squared(),
+                                ..AdrSums::default()
+                            };
+                            let lam = lambda_of(dens, &pd.contact_stiffness, i);
+                            for a in 0..3 {
+                                if ff[a] == 0.0 {
+                                    continue;
+                                }
+                                if v[a] != 0.0 {
+                                    let k1 = -(f[a] - prev[i][a]) / (lam * v[a]);
+                                    s.num += u[a] * k1 * u[a];
+                                }
+                                s.den += u[a] * u[a];
+                            }
+                            s
+                        },
+                        AdrSums::add,
+                    );
+                    if !body.finite {
+                        return Err(Error::numerical(format!(
+                            "non-finite displacement or force in body \"{}\" at iteration {n}: ADR diverged (likely cause: a penalty stiffness far above the bond stiffness, or a load that pushes a body through a surface)",
+                            pd.name
+                        )));
+                    }
+                    sum = sum.add(body);
+                }
+                Body::Rigid(rb) if rb.motion == Motion::Free => {
+                    let f = (rb.load + rb.contact_force).dot(&rb.axis);
+                    let z = rb.translation.dot(&rb.axis);
+                    sum.residual += f * f;
+                    if rb.axial_speed != 0.0 {
+                        sum.num += z * z * (-(f - prev_rf[k]) / (rigid_lambda[k] * rb.axial_speed));
+                    }
+                    sum.den += z * z;
+                }
+                Body::Rigid(_) => {}
+            }
+        }
+        check_missed(model, n, "iteration", None)?;
+        let r = sum.residual.sqrt();
+        let rel = r / reference;
+        stats.residual = rel;
+        stats.iterations = n;
+        best = best.min(rel);
+        if rel < tolerance {
+            stats.converged = true;
+            break;
+        }
+        if n >= max_iterations {
+            break;
+        }
+        if rel > 1e6 * best.max(1e-12) && n > n0 + 100 {
+            return Err(Error::numerical(format!(
+                "ADR diverged at iteration {n}: the out-of-balance force grew to {rel:.3e} of the load (it was {best:.3e}); likely cause: contact stiffness far above the bond stiffness"
+            )));
+        }
+        if monitor.interrupted() {
+            stats.interrupted = true;
+            break;
+        }
+        let (num, den) = (sum.num, sum.den);
+        let c = if den > 0.0 && num > 0.0 {
+            (2.0 * (num / den).sqrt()).min(1.9)
+        } else {
+            0.0
+        };
+
+        for (k, b) in model.bodies.iter_mut().enumerate() {
+            match b {
+                Body::Deformable(pd) => {
+                    let dens = &density[k];
+                    let pd = &mut **pd;
+                    let kc = &pd.contact_stiffness;
+                    pd.v.par_iter_mut()
+                        .zip(pd.u.par_iter_mut())
+                        .zip(prev_f[k].par_iter_mut())
+                        .enumerate()
+                        .with_min_len(1024)
+                        .for_each(|(i, ((v, u), prev))| {
+                            let ff = free_factor(pd.fixed[i]);
+                            let f = pd.force[i];
+                            let lam = lambda_of(dens, kc, i);
+                            *v =
+                                ((*v * (2.0 - c) + f * (2.0 / lam)) / (2.0 + c)).component_mul(&ff);
+                            *u += *v;
+                            *prev = f;
+                        });
+                }
+                Body::Rigid(rb) if rb.motion == Motion::Free => {
+                    let f = (rb.load + rb.contact_force).dot(&rb.axis);
+                    rb.axial_speed =
+                        (rb.axial_speed * (2.0 - c) + 2.0 * f / rigid_lambda[k]) / (2.0 + c);
+                    rb.translation += rb.axis * rb.axial_speed;
+                    prev_rf[k] = f;
+                }
+                Body::Rigid(rb) if rb.motion == Motion::Velocity => {
+                    // A prescribed motion in ADR: one unit of pseudo-time per iteration.
+                    rb.translation += rb.velocity;
+                }
+                Body::Rigid(_) => {}
+            }
+        }
+        monitor.step(model, n, n as f64, rel)?;
+    }
+    Ok(n)
+}

@@ -1,0 +1,180 @@
+//! Time integration: adaptive dynamic relaxation for quasi-static scenes and explicit velocity
+//! Verlet for dynamics (paper Sec. 2.3, METHOD.md §6).
+//!
+//! **ADR** (Kilic & Madenci 2010, Eqs. 27-33, Δt = 1): a fictitious diagonal density
+//! `λ_i ≥ ¼ Σ_j |K_ij|` (Eq. 31) from Gershgorin's bound on the bond stiffness `w n⊗n` plus the
+//! contact's tangent stiffness `1.5 K δ^{1/2}` at the edge of the window (without it contact
+//! makes ADR unstable); damping `c = 2 √(uᵀ ¹K u / uᵀ u)` with the local stiffness of Eq. 33;
+//! the velocity update of Eq. 29 with its sign corrected:
+//! `v^{n+½} = ((2 − c) v^{n−½} + 2 F/λ) / (2 + c)`. Converged when the out-of-balance force of
+//! the free degrees of freedom, `‖R‖₂`, is below `tolerance · ‖F_applied‖₂`.
+//!
+//! **Explicit**: velocity Verlet with `Δt ≤ Δt_crit = min_i √(2 m_i / (Σ_j w_ij + k_c,i))`,
+//! Silling & Askari's bound (`Σ_j (c/|ξ|) V_j` per unit volume) tightened by the contact's
+//! largest tangent stiffness `k_c` on every slave particle.
+//!
+//! Both stop with an error naming the step and the likely cause on NaN, energy growth,
+//! displacement growth, ADR divergence and missed contacts.
+//!
+//! | what | where |
+//! |---|---|
+//! | ADR: the fictitious density, the load increments, the relaxation | `adr.rs` ([`adr`]) |
+//! | velocity Verlet, the stable step, the energy balance | `explicit.rs` ([`explicit`], [`stable_time_step`]) |
+//! | the monitor, the statistics, the free-direction mask, the checks both share | this module |
+
+mod adr;
+mod explicit;
+
+use rayon::prelude::*;
+
+pub use adr::adr;
+pub use explicit::{explicit, stable_time_step};
+
+use crate::body::{Body, FIX_X, FIX_Y, FIX_Z};
+use crate::error::{Error, Result};
+use crate::math::Vec3;
+use crate::model::Model;
+use crate::scene::{SolverKind, SolverSpec};
+
+/// Default ADR tolerance.
+pub const DEFAULT_TOLERANCE: f64 = 1e-4;
+/// Default ADR iteration cap.
+pub const DEFAULT_MAX_ITERATIONS: usize = 200_000;
+/// Default fraction of the stable time step.
+pub const DEFAULT_SAFETY: f64 = 0.8;
+/// Receives the solver's progress and frames.
+pub trait Monitor {
+    /// Called after every step with the step number, the (pseudo-)time and the residual
+    /// (ADR) or the kinetic energy (explicit). Return an error to stop the run.
+    fn step(&mut self, model: &Model, step: usize, time: f64, measure: f64) -> Result<()>;
+    /// Called once at the end with the last state.
+    fn finish(&mut self, model: &Model, step: usize, time: f64) -> Result<()>;
+    /// Whether the user asked to stop (Ctrl-C); the solver then writes the last frame and ends.
+    fn interrupted(&self) -> bool {
+        false
+    }
+}
+
+/// A monitor that does nothing.
+pub struct Silent;
+impl Monitor for Silent {
+    fn step(&mut self, _: &Model, _: usize, _: f64, _: f64) -> Result<()> {
+        Ok(())
+    }
+    fn finish(&mut self, _: &Model, _: usize, _: f64) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// What a run did.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct RunStats {
+    /// "adr" or "explicit".
+    pub solver: String,
+    pub iterations: usize,
+    pub converged: bool,
+    /// ADR: final ‖R‖/‖F_applied‖; explicit: not used (0).
+    pub residual: f64,
+    /// Explicit: simulated time.
+    pub time: f64,
+    /// Explicit: time step used.
+    pub dt: f64,
+    /// Explicit: the stable time step estimate.
+    pub stable_dt: f64,
+    /// Explicit: largest relative drift of the total energy, measured every check.
+    pub energy_drift: f64,
+    /// Explicit: contact force was seen, then fell back to zero (the body bounced off).
+    pub rebounded: bool,
+    /// The run was interrupted by the user.
+    pub interrupted: bool,
+}
+
+/// Fixed-component mask as a per-axis factor (0 fixed, 1 free).
+#[inline]
+pub fn free_factor(mask: u8) -> Vec3 {
+    Vec3::new(
+        (mask & FIX_X == 0) as u8 as f64,
+        (mask & FIX_Y == 0) as u8 as f64,
+        (mask & FIX_Z == 0) as u8 as f64,
+    )
+}
+
+/// Runs the solver the scene asks for.
+pub fn solve(model: &mut Model, spec: &SolverSpec, monitor: &mut dyn Monitor) -> Result<RunStats> {
+    match spec.kind {
+        SolverKind::Adr => adr(
+            model,
+            spec.tolerance.unwrap_or(DEFAULT_TOLERANCE),
+            spec.max_iterations.unwrap_or(DEFAULT_MAX_ITERATIONS),
+            spec.load_steps.unwrap_or(1),
+            monitor,
+        ),
+        SolverKind::Explicit => explicit(model, spec, monitor),
+    }
+}
+
+pub(super) fn check_finite(model: &Model, step: usize, what: &str) -> Result<()> {
+    for b in &model.bodies {
+        if let Body::Deformable(pd) = b {
+            if pd
+                .u
+                .par_iter()
+                .chain(pd.force.par_iter())
+                .any(|v| !v.iter().all(|c| c.is_finite()))
+            {
+                return Err(Error::numerical(format!(
+                    "non-finite displacement or force in body \"{}\" at {what} {step}: {}",
+                    pd.name,
+                    if what == "iteration" {
+                        "ADR diverged (likely cause: a penalty stiffness far above the bond stiffness, or a load that pushes a body through a surface)"
+                    } else {
+                        "the explicit run blew up (likely cause: the time step is above the stable step)"
+                    }
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+pub(super) fn check_missed(model: &Model, step: usize, what: &str, dt: Option<f64>) -> Result<()> {
+    let missed = model.missed_contacts();
+    if missed > 0 {
+        let short: usize = model.short_range.iter().map(|p| p.missed).sum();
+        let cause = match dt {
+            Some(dt) => format!(
+                "the impact speed is too high for the time step dt = {dt:.3e} s (a particle moved through the window in one step), or the penalty is too soft for the load"
+            ),
+            None => "the load pushes particles through the surface: the penalty is too soft for the load (raise the contact radius R) or the load is too large".to_string(),
+        };
+        if short == missed {
+            let d: Vec<String> = model
+                .short_range
+                .iter()
+                .filter(|p| p.missed > 0)
+                .map(|p| format!("{:.3e} m", p.distance))
+                .collect();
+            let cause = match dt {
+                Some(dt) => format!(
+                    "the impact speed is too high for the time step dt = {dt:.3e} s (a particle crossed the repulsion zone in one step)"
+                ),
+                None => "the load is more than the short-range repulsion can hold".to_string(),
+            };
+            return Err(Error::numerical(format!(
+                "missed contact at {what} {step}: {missed} slave particles went through the master's surface (short-range contact, d = {}); likely cause: {cause}",
+                d.join(", ")
+            )));
+        }
+        let window: Vec<String> = model
+            .passes
+            .iter()
+            .filter(|p| p.missed > 0)
+            .map(|p| format!("{:.3e} m", p.law.window))
+            .collect();
+        return Err(Error::numerical(format!(
+            "missed contact at {what} {step}: {missed} slave particles are behind a master segment by more than the contact window ({}); likely cause: {cause}",
+            window.join(", ")
+        )));
+    }
+    Ok(())
+}

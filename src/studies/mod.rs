@@ -1,0 +1,21 @@
+//! The studies: programs built on the library's public API, apart from the pipeline stages.
+//!
+//! | command | module |
+//! |---|---|
+//! | `pdcontact demo`: the sphere on a plane against Hertz | [`demo`] |
+//! | the validation scenes, shared by the studies | [`scenarios`] |
+//! | a scene run and compared with its theory | [`comparison`] |
+//! | `pdcontact validate`: the scenes against theory, the convergence studies | [`validate`] |
+//! | `pdcontact sweep`: speed against accuracy | [`sweep`] |
+//! | `pdcontact sweep --stability`: where the solvers and contact methods stop working | [`stability`] |
+//! | `pdcontact bench`: the kernels and stages timed | [`bench`](mod@bench) |
+//! | the SVG charts they draw | [`chart`] |
+
+pub mod bench;
+pub mod chart;
+pub mod comparison;
+pub mod demo;
+pub mod scenarios;
+pub mod stability;
+pub mod sweep;
+pub mod validate;
