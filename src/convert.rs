@@ -173,6 +173,7 @@ pub fn write_case_files(case: &PdCase, mesh_path: &Path, out: &Path) -> Result<(
             ),
             Field::flag("boundary_node", &case.segments.boundary_node),
             Field::scalar("tributary_area", case.segments.tributary_area.clone()),
+            Field::scalar("pressure_area", case.segments.pressure_area.clone()),
         ],
         vec![],
     )?;

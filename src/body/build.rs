@@ -8,6 +8,7 @@ use pdcontact_importers::{boundary_faces, read_path, ElementKind, Format, Mesh};
 
 use super::{Body, Material, PdBody, RigidBody};
 use crate::case::correction::CorrectionMethod;
+use crate::case::discretize::mesh_median_edge;
 use crate::case::generators;
 use crate::case::segments::{quad_area_normal, MasterSegment};
 use crate::case::{CaseOptions, PdCase, SymmetryPlane, DEFAULT_HORIZON_FACTOR};
@@ -241,8 +242,15 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                     at: s.at,
                 })
                 .collect();
+            // A generated body's grid spacing is its generator's cell size, the median edge of
+            // its hex lattice; an imported mesh's is estimated from its particles' volumes.
+            let spacing = spec.spacing.or_else(|| {
+                spec.generator
+                    .is_some()
+                    .then(|| mesh_median_edge(&mesh))
+            });
             let options = CaseOptions {
-                spacing: spec.spacing,
+                spacing,
                 horizon_factor: spec.horizon_factor.unwrap_or(DEFAULT_HORIZON_FACTOR),
                 correction: spec
                     .surface_correction

@@ -3,7 +3,8 @@
 //! A node's volume is the sum, over the solids that use it, of the solid's exact volume divided
 //! by its corner count (hex8: 1/8 each). Second-order elements contribute their corners only.
 //! Element volumes are exact for the trilinear/bilinear shapes (see [`element_volume`]).
-//! The grid spacing Δ is the scene's, or the median corner-edge length of the solids.
+//! The grid spacing Δ is the scene's, a generator's cell size (its median edge), or, for an
+//! imported mesh, the spacing of a lattice with the particles' median volume ([`lattice_spacing`]).
 //!
 //! Particles are stored in Morton (Z-curve) order of their position, so that particles close in
 //! space are close in memory: the bond loop then reads partner data from cache.
@@ -117,7 +118,7 @@ pub fn discretize(mesh: &Mesh, spacing: Option<f64>) -> Result<Discretization> {
                 "grid spacing must be positive, got {d}"
             )))
         }
-        None => median_edge(&solids, &mesh.coords),
+        None => lattice_spacing(&node_volume, &node_angle, &is_corner),
     };
 
     let mut nodes: Vec<u32> = (0..mesh.node_count() as u32)
@@ -288,6 +289,43 @@ fn max_edge(kind: ElementKind, corners: &[u32], coords: &[[f64; 3]]) -> f64 {
         .iter()
         .map(|&e| edge_length(corners, coords, e))
         .fold(0.0, f64::max)
+}
+
+/// The spacing of the lattice whose cell holds the median particle's volume: the median over the
+/// corner nodes of `(V_i / ω_i)^⅓`, with `ω_i` the node's solid fraction (a boundary node's
+/// lumped volume completed to a whole cell, as [`Discretization::completed_volume`] does).
+///
+/// The formulas that use Δ (horizon δ = mΔ, volume correction, the detector's kernel width)
+/// assume a lattice of spacing Δ, one particle per Δ³. On a hex8 mesh that is about the median
+/// edge (gmsh's cubed spheres: 0.080 against 0.083 m); on a tet mesh the edges are longer than
+/// the spacing of a lattice with as many particles (gmsh tet4 of size 0.05 m: median edge
+/// 0.0646 m, lattice spacing 0.0533 m), and a horizon of m median edges held 1.7 times the bonds
+/// and a wider, softer contact than the particle density calls for (docs/VALIDATION.md,
+/// "Unstructured meshes").
+pub fn lattice_spacing(node_volume: &[f64], node_angle: &[f64], is_corner: &[bool]) -> f64 {
+    let mut sides: Vec<f64> = (0..node_volume.len())
+        .filter(|&n| is_corner[n])
+        .map(|n| {
+            let fraction = (node_angle[n] / (4.0 * std::f64::consts::PI)).min(1.0);
+            if fraction > 0.0 {
+                (node_volume[n] / fraction).cbrt()
+            } else {
+                node_volume[n].cbrt()
+            }
+        })
+        .collect();
+    if sides.is_empty() {
+        return 0.0;
+    }
+    let mid = sides.len() / 2;
+    let (_, m, _) = sides.select_nth_unstable_by(mid, f64::total_cmp);
+    *m
+}
+
+/// Median corner-edge length of a mesh's solids: a generated body's grid spacing.
+pub fn mesh_median_edge(mesh: &Mesh) -> f64 {
+    let solids: Vec<ElementRef<'_>> = mesh.solids().collect();
+    median_edge(&solids, &mesh.coords)
 }
 
 /// Median corner-edge length over all solids (each element's edges counted once per element).

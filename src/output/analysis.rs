@@ -17,14 +17,16 @@ use crate::body::Body;
 use crate::math::Vec3;
 use crate::model::Model;
 
-/// Contact pressure per particle: normal contact force over undeformed tributary area
-/// (METHOD.md §5). The penalty force acts along the master segment's normal, so its magnitude
+/// Contact pressure per particle: normal contact force over the particle's undeformed pressure
+/// area (METHOD.md §5; the tributary area redistributed by the boundary layer's volume, see
+/// [`pressure_areas`](crate::case::segments::pressure_areas)); `Σ p_i A*_i` is the contact
+/// force exactly. The penalty force acts along the master segment's normal, so its magnitude
 /// is the normal contact force; frictionless contact has no other component.
 pub fn contact_pressure(model: &Model, body: usize) -> Vec<f64> {
     let Some(pd) = model.bodies[body].as_pd() else {
         return Vec::new();
     };
-    let area = &pd.case.segments.tributary_area;
+    let area = &pd.case.segments.pressure_area;
     (0..pd.len())
         .map(|i| {
             let f = pd.contact_force[i].norm();
@@ -93,7 +95,7 @@ pub fn contact_patch(model: &Model, body: usize, strip_axis: Option<Vec3>) -> Op
     let force: Vec3 = pd.contact_force.iter().sum();
     let total: f64 = p
         .iter()
-        .zip(&pd.case.segments.tributary_area)
+        .zip(&pd.case.segments.pressure_area)
         .map(|(p, a)| p * a)
         .sum();
     if !(total > 0.0) || !(force.norm() > 0.0) {
@@ -103,7 +105,7 @@ pub fn contact_patch(model: &Model, body: usize, strip_axis: Option<Vec3>) -> Op
     let x = &pd.case.particles.position;
     let mut centre = Vec3::zeros();
     for i in 0..pd.len() {
-        centre += x[i] * (p[i] * pd.case.segments.tributary_area[i] / total);
+        centre += x[i] * (p[i] * pd.case.segments.pressure_area[i] / total);
     }
     // In a symmetric model the whole contact's centre lies on the symmetry planes.
     for plane in &pd.case.ghosts.planes {
