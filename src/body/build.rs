@@ -244,11 +244,9 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                 .collect();
             // A generated body's grid spacing is its generator's cell size, the median edge of
             // its hex lattice; an imported mesh's is estimated from its particles' volumes.
-            let spacing = spec.spacing.or_else(|| {
-                spec.generator
-                    .is_some()
-                    .then(|| mesh_median_edge(&mesh))
-            });
+            let spacing = spec
+                .spacing
+                .or_else(|| spec.generator.is_some().then(|| mesh_median_edge(&mesh)));
             let options = CaseOptions {
                 spacing,
                 horizon_factor: spec.horizon_factor.unwrap_or(DEFAULT_HORIZON_FACTOR),
