@@ -348,7 +348,7 @@ pub fn median_edge(solids: &[ElementRef<'_>], coords: &[[f64; 3]]) -> f64 {
 }
 
 /// Sorts node indices by the Morton code of their cell (cell size `spacing`).
-pub(crate) fn sort_morton(nodes: &mut [u32], coords: &[[f64; 3]], spacing: f64) {
+pub fn sort_morton(nodes: &mut [u32], coords: &[[f64; 3]], spacing: f64) {
     if nodes.is_empty() {
         return;
     }
