@@ -162,6 +162,7 @@ pub fn write_case_files(case: &PdCase, mesh_path: &Path, out: &Path) -> Result<(
         vec![
             Field::scalar("volume", p.volume.clone()),
             Field::scalar("lambda_min", case.surface.lambda_min.clone()),
+            Field::scalar("kernel_fill", case.surface.kernel_fill.clone()),
             Field::flag("surface", &case.surface.is_surface),
             Field::vector("normal", case.surface.normal.clone()),
             Field::id(

@@ -31,7 +31,7 @@ use crate::case::correction::{surface_correction_with, CorrectionMethod, Surface
 use crate::case::discretize::{discretize, Discretization};
 use crate::case::neighbours::{build_bonds_from, BondList};
 use crate::case::segments::{master_segments, SegmentSet};
-use crate::case::surface::{detect_surface, SurfaceDetection};
+use crate::case::surface::{detect_surface, SurfaceDetection, NORMAL_KERNEL_WIDTH};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
 
@@ -237,13 +237,14 @@ impl PdCase {
         let horizon = options.horizon_factor * spacing;
 
         let t = Instant::now();
-        // Bonds reach δ + r (r = Δ/2, Eq. 10); the surface kernel reaches 3h = 3Δ. One list
-        // serves both; the 1e-9 keeps lattice bonds exactly at the edge.
-        let reach = (horizon + 0.5 * spacing).max(3.0 * spacing) * (1.0 + 1e-9);
+        // Bonds reach δ + r (r = Δ/2, Eq. 10); the 1e-9 keeps lattice bonds exactly at the
+        // edge. Mirror images lie as far from their planes as the bonds and the surface's
+        // widest kernel reach (3h at h = 2 s_i, taking s_i = Δ).
+        let reach = (horizon + 0.5 * spacing) * (1.0 + 1e-9);
         let ghosts = Ghosts::build(
             &options.symmetry,
             &particles.position,
-            2.0 * reach,
+            2.0 * reach.max(3.0 * NORMAL_KERNEL_WIDTH * spacing),
             1e-6 * spacing,
         );
         let mut position = Vec::new();
@@ -255,11 +256,14 @@ impl PdCase {
         // Completed volumes V/ω: for a particle on a symmetry plane the share the model holds
         // cancels between V and ω, so they are the whole particle's, as its images need.
         let completed = particles.completed_volume();
-        let surface = detect_surface(&position, &ghosts.extend(&completed), &bonds, spacing);
+        let surface = detect_surface(
+            &position,
+            &ghosts.extend(&completed),
+            particles.len(),
+            spacing,
+        );
         times.surface = t.elapsed().as_secs_f64();
 
-        // Drop the pairs that only the surface kernel needed.
-        let bonds = trim_bonds(bonds, (horizon + 0.5 * spacing) * (1.0 + 1e-9));
         // A spacing far below the mesh's own leaves particles without partners: such a body has
         // no stiffness and the first step divides by zero.
         let lonely = (0..bonds.particles())
@@ -336,33 +340,6 @@ impl PdCase {
         }
         a
     }
-}
-
-/// Keeps only bonds not longer than `reach`.
-fn trim_bonds(bonds: BondList, reach: f64) -> BondList {
-    // Compared in the precision the lengths are stored in (rounding is monotone, so no bond
-    // within reach is dropped).
-    let reach = reach as f32;
-    if bonds.length.iter().all(|&l| l <= reach) {
-        return bonds;
-    }
-    let n = bonds.particles();
-    let mut out = BondList {
-        offsets: Vec::with_capacity(n + 1),
-        partner: Vec::new(),
-        length: Vec::new(),
-    };
-    out.offsets.push(0);
-    for i in 0..n {
-        for b in bonds.range(i) {
-            if bonds.length[b] <= reach {
-                out.partner.push(bonds.partner[b]);
-                out.length.push(bonds.length[b]);
-            }
-        }
-        out.offsets.push(out.partner.len());
-    }
-    out
 }
 
 #[cfg(test)]
@@ -442,8 +419,10 @@ mod symmetry_tests {
             );
             assert!(
                 (quarter.surface.normal[q] - whole.surface.normal[w]).norm() < 1e-6,
-                "normal at {:?}",
-                p.as_slice()
+                "normal at {:?}: {:?} vs {:?}",
+                p.as_slice(),
+                quarter.surface.normal[q],
+                whole.surface.normal[w]
             );
             for k in 0..3 {
                 let (gq, gw) = (quarter.correction.g[q][k], whole.correction.g[w][k]);

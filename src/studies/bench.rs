@@ -591,7 +591,7 @@ pub fn run_pipeline(
             crate::case::surface::detect_surface(
                 &case.particles.position,
                 &volume,
-                &case.bonds,
+                volume.len(),
                 case.particles.spacing,
             )
         });
