@@ -68,17 +68,26 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
-    /// Validate against theory: Hertz sphere and roller, Sadowsky punch (paper and hertz sets).
+    /// Validate against theory: Hertz sphere and roller, Sadowsky punch (paper and hertz sets),
+    /// or the Hertz sphere or roller on your own mesh (--mesh).
     Validate {
-        /// The problems.
-        #[arg(long, value_enum, default_value_t = ProblemArg::All)]
-        case: ProblemArg,
+        /// The problems [default: all; with --mesh: sphere].
+        #[arg(long, value_enum)]
+        case: Option<ProblemArg>,
         /// The scene sets.
         #[arg(long, value_enum, default_value_t = SetArg::Hertz)]
         set: SetArg,
         /// Run a convergence study of the sphere instead.
         #[arg(long, value_enum)]
         study: Option<StudyArg>,
+        /// Run the Hertz scene on this mesh instead (CDB, MSH, INP): a solid sphere (--case
+        /// sphere) or circular cylinder with its axis along x, y or z (--case roller), of any
+        /// size and position; the roller's end faces become symmetry planes (plane strain).
+        #[arg(long, value_name = "FILE", conflicts_with_all = ["set", "study"])]
+        mesh: Option<PathBuf>,
+        /// With --mesh: force the mesh format (cdb, msh or inp) instead of guessing it.
+        #[arg(long, value_parser = parse_format, requires = "mesh")]
+        format: Option<Format>,
         /// Output folder (one subfolder per run).
         #[arg(short, long, default_value = "pdcontact-validate")]
         output: PathBuf,
@@ -319,10 +328,29 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             case,
             set,
             study,
+            mesh,
+            format,
             output,
             json,
             quiet,
         } => {
+            if let Some(mesh) = mesh {
+                let problem = match case.unwrap_or(ProblemArg::Sphere) {
+                    ProblemArg::Sphere => Problem::Sphere,
+                    ProblemArg::Roller => Problem::Roller,
+                    ProblemArg::Punch | ProblemArg::All => {
+                        return Err(Error::input(
+                            "validate --mesh runs the Hertz sphere or roller: use --case sphere or --case roller",
+                        ))
+                    }
+                };
+                let report = pdcontact::studies::user_mesh::validate_mesh(
+                    &mesh, format, problem, &output, quiet,
+                )?;
+                print_report(json, &report, || report.to_text());
+                return Ok(Outcome::Done);
+            }
+            let case = case.unwrap_or(ProblemArg::All);
             let selection = match study {
                 Some(s) => validate::run_study(s.into(), &output, quiet)?,
                 None => validate::run_selection(&case.problems(), &set.sets(), &output, quiet)?,

@@ -10,7 +10,8 @@ elements too), edge lengths (min/median/max over unique edges), the median
 edge counted once per element (the grid spacing Δ that pdcontact takes by
 default, src/case/discretize.rs `median_edge`), the total volume (exact for the
 trilinear hexes: 2x2x2 Gauss integration of det J) against the exact volume
-(4πR³/3 for a sphere, R = largest node radius; the bounding box for a box),
+(4πR³/3 for a sphere, R = largest node radius; πR²L for a cylinder along y; the bounding
+box for a box),
 the minimum scaled Jacobian (Verdict definition: at each corner, the triple
 product of the unit edge vectors; tets scaled so that the regular tet is 1)
 and whether any element is inverted (det J <= 0 at a corner or Gauss point).
@@ -159,11 +160,16 @@ def analyse(path):
     used = np.unique(np.concatenate(solid_nodes))
     r = np.linalg.norm(p[used], axis=1)
     sphere = "ball" in groups
+    cylinder = "roller" in groups  # axis y
+    lo, hi = p[used].min(axis=0), p[used].max(axis=0)
     if sphere:
         radius = r.max()
         out["exact"], out["exact_what"] = 4 * math.pi * radius ** 3 / 3, f"4π/3·{radius:g}³"
+    elif cylinder:
+        radius = np.hypot(p[used, 0], p[used, 2]).max()
+        length = hi[1] - lo[1]
+        out["exact"], out["exact_what"] = math.pi * radius ** 2 * length, f"π·{radius:g}²·{length:g}"
     else:
-        lo, hi = p[used].min(axis=0), p[used].max(axis=0)
         out["exact"], out["exact_what"] = float(np.prod(hi - lo)), "box"
     out["rel"] = out["volume"] / out["exact"] - 1
 
@@ -179,6 +185,9 @@ def analyse(path):
         q = p[bf.ravel()]
         if sphere:
             on = np.abs(np.linalg.norm(q, axis=1) - radius) < 1e-9 * radius
+        elif cylinder:
+            tol = 1e-9 * radius
+            on = (np.abs(np.hypot(q[:, 0], q[:, 2]) - radius) < tol) | (np.abs(q[:, 1] - lo[1]) < tol) | (np.abs(q[:, 1] - hi[1]) < tol)
         else:
             tol = 1e-9 * np.linalg.norm(hi - lo)
             on = (np.abs(q - lo) < tol).any(axis=1) | (np.abs(q - hi) < tol).any(axis=1)

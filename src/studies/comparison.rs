@@ -40,6 +40,9 @@ pub struct ValidationRow {
     pub fitted_radius: f64,
     pub peak_pressure: f64,
     pub samples: usize,
+    /// Peak pressure against the theory's `p0`, relative (Hertz rows; none for the punch,
+    /// whose theory is singular at the edges).
+    pub peak_error: Option<f64>,
     pub chart: PathBuf,
 }
 
@@ -62,9 +65,10 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
         },
     )?;
     let wall = start.elapsed().as_secs_f64();
-    let strip = match case.problem {
-        Problem::Sphere => None,
-        _ => Some(Vec3::y()),
+    let strip = match &case.reference {
+        Reference::Sphere { .. } => None,
+        Reference::Roller { axis, .. } => Some(*axis),
+        Reference::Punch { .. } => Some(Vec3::y()),
     };
     let patch = contact_patch(&model, 0, strip)
         .ok_or_else(|| Error::numerical(format!("{}: no contact formed", dir.display())))?;
@@ -86,6 +90,7 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
             load_per_length,
             radius,
             e_stars,
+            ..
         } => e_stars
             .iter()
             .map(|(label, e)| {
@@ -126,6 +131,10 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
             fitted_radius: acc.fitted_radius,
             peak_pressure: patch.peak,
             samples: acc.samples,
+            peak_error: match case.problem {
+                Problem::Punch => None,
+                _ => Some(patch.peak / p0 - 1.0),
+            },
             chart: chart.clone(),
         });
         charted.push((label.clone(), *a, *p0, *acc));

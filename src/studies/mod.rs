@@ -9,6 +9,7 @@
 //! | `pdcontact sweep`: speed against accuracy | [`sweep`] |
 //! | `pdcontact sweep --stability`: where the solvers and contact methods stop working | [`stability`] |
 //! | `pdcontact bench`: the kernels and stages timed | [`bench`](mod@bench) |
+//! | `pdcontact validate --mesh`: the Hertz sphere or roller on a user's mesh | [`user_mesh`] |
 //! | the SVG charts they draw | [`chart`] |
 
 pub mod bench;
@@ -18,4 +19,5 @@ pub mod demo;
 pub mod scenarios;
 pub mod stability;
 pub mod sweep;
+pub mod user_mesh;
 pub mod validate;

@@ -21,6 +21,7 @@
 
 use std::path::Path;
 
+use crate::math::Vec3;
 use crate::output::analysis::e_star_rigid;
 
 /// The embedded sphere mesh.
@@ -53,11 +54,14 @@ impl Problem {
     }
 }
 
-/// The two sets.
+/// The two sets, and a user's own mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Set {
     Paper,
     Hertz,
+    /// The Hertz sphere or roller on a mesh the user gives (`validate --mesh`,
+    /// [`user_mesh`](super::user_mesh)): not among the stored scenes of [`cases`].
+    Mesh,
 }
 
 impl Set {
@@ -65,6 +69,7 @@ impl Set {
         match self {
             Set::Paper => "paper",
             Set::Hertz => "hertz",
+            Set::Mesh => "mesh",
         }
     }
 }
@@ -78,11 +83,13 @@ pub enum Reference {
         radius: f64,
         e_stars: Vec<(String, f64)>,
     },
-    /// Hertz cylinder: load per unit length, radius, `(label, E*)` variants.
+    /// Hertz cylinder: load per unit length, radius, `(label, E*)` variants, and the
+    /// cylinder's axis (the contact is a strip along it).
     Roller {
         load_per_length: f64,
         radius: f64,
         e_stars: Vec<(String, f64)>,
+        axis: Vec3,
     },
     /// Sadowsky punch: load per unit length, half-width.
     Punch {
@@ -365,6 +372,7 @@ keep = "negative"
             load_per_length,
             radius,
             e_stars: vec![("rigid plane".into(), e_star)],
+            axis: Vec3::y(),
         },
     }
 }
@@ -590,6 +598,7 @@ axis = "y"
                 ("paper E*".into(), PAPER_E_STAR),
                 ("rigid plane".into(), e_star_rigid(YOUNGS, POISSON)),
             ],
+            axis: Vec3::y(),
         },
     }
 }
@@ -618,6 +627,7 @@ pub fn cases(problems: &[Problem], sets: &[Set], sphere_mesh: &Path) -> Vec<Vali
                 (Set::Paper, Problem::Sphere) => paper_sphere_case(sphere_mesh),
                 (Set::Paper, Problem::Roller) => paper_roller_case(),
                 (Set::Paper, Problem::Punch) => paper_punch_case(),
+                (Set::Mesh, _) => continue,
             });
         }
     }

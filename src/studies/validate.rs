@@ -19,23 +19,30 @@ use crate::studies::scenarios::*;
 
 /// The table `validate` prints.
 pub fn table(rows: &[ValidationRow]) -> String {
+    table_columns(rows, false)
+}
+
+/// The table with a column for the peak pressure against the theory's `p0` (`validate
+/// --mesh`; "–" where a row has none).
+pub fn table_with_peak(rows: &[ValidationRow]) -> String {
+    table_columns(rows, true)
+}
+
+fn table_columns(rows: &[ValidationRow], peak: bool) -> String {
     let mut s = format!(
-        "{:<7} {:<6} {:<12} {:>8} {:>5} {:>9} {:>8} {:>9} {:>9} {:>7} {:>8}\n",
-        "case",
-        "set",
-        "theory",
-        "Δ (m)",
-        "m",
-        "particles",
-        "MRE",
-        "radius",
-        "balance",
-        "iters",
-        "seconds"
+        "{:<7} {:<6} {:<12} {:>8} {:>5} {:>9} {:>8} {:>9}",
+        "case", "set", "theory", "Δ (m)", "m", "particles", "MRE", "radius"
     );
+    if peak {
+        s.push_str(&format!(" {:>9}", "peak"));
+    }
+    s.push_str(&format!(
+        " {:>9} {:>7} {:>8}\n",
+        "balance", "iters", "seconds"
+    ));
     for r in rows {
         s.push_str(&format!(
-            "{:<7} {:<6} {:<12} {:>8.4} {:>5.3} {:>9} {:>7.2}% {:>+8.2}% {:>9.1e} {:>7} {:>8.1}\n",
+            "{:<7} {:<6} {:<12} {:>8.4} {:>5.3} {:>9} {:>7.2}% {:>+8.2}%",
             r.case,
             r.set,
             r.variant,
@@ -44,9 +51,16 @@ pub fn table(rows: &[ValidationRow]) -> String {
             r.particles,
             100.0 * r.mre,
             100.0 * r.radius_error,
-            r.force_balance_error,
-            r.iterations,
-            r.wall_seconds
+        ));
+        if peak {
+            match r.peak_error {
+                Some(e) => s.push_str(&format!(" {:>+8.2}%", 100.0 * e)),
+                None => s.push_str(&format!(" {:>9}", "–")),
+            }
+        }
+        s.push_str(&format!(
+            " {:>9.1e} {:>7} {:>8.1}\n",
+            r.force_balance_error, r.iterations, r.wall_seconds
         ));
     }
     s

@@ -1,0 +1,508 @@
+//! `pdcontact validate --mesh FILE`: the Hertz sphere or roller on a user's own mesh, so that
+//! what the mesh gives against theory can be seen before its results are trusted (METHOD.md §7).
+//!
+//! The shape is measured from the mesh's nodes, not assumed:
+//!
+//! * **sphere**: centre at the bounding box's centre, radius half its largest extent; the
+//!   three extents must agree and every boundary node must lie on the sphere, within
+//!   [`SHAPE_TOLERANCE`].
+//! * **roller** (a circular cylinder): the axis is x, y or z, the one along which the mesh is a
+//!   circle of constant radius with flat end faces (tried in the order y, x, z); radius half
+//!   the larger of the two cross extents. The end faces become symmetry planes (mirror
+//!   images, METHOD.md §6), so the body is an infinitely long roller in plane strain, as the
+//!   structured roller slice of the "hertz" set ([`hertz_roller_case`]); any length works, a
+//!   slice a few spacings long is the cheapest.
+//!
+//! The scene is that of `pdcontact demo` (METHOD.md §7): E = 1 GPa, ν = 0.25, small bond
+//! kinematics, ADR, a stiff penalty (radius 100 R), a rigid plane just touching the lowest
+//! node, and the load spread over the body by volume so that Hertz's contact radius (sphere)
+//! or half-width (roller) is `a = 0.3 R`. The body is pressed along −z, or along −x when a
+//! roller's axis is z. The scene is written into the output folder so that it can be run
+//! again with `pdcontact run`; the run, its frames, summary and chart are those of any
+//! validation case ([`run_case`]).
+//!
+//! [`hertz_roller_case`]: super::scenarios::hertz_roller_case
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::case::discretize::discretize;
+use crate::case::DEFAULT_HORIZON_FACTOR;
+use crate::error::{Error, Result};
+use crate::importers::{boundary_faces, Format, Mesh};
+use crate::math::Vec3;
+use crate::output::analysis::e_star_rigid;
+use crate::studies::comparison::{run_case, ValidationRow};
+use crate::studies::scenarios::{
+    Problem, Reference, Set, ValidationCase, DENSITY, POISSON, YOUNGS,
+};
+use crate::studies::validate::table_with_peak;
+
+/// Hertz contact radius (sphere) or half-width (roller) over the body's radius: the demo's.
+pub const CONTACT_RATIO: f64 = 0.3;
+/// How far the mesh may depart from the shape: extents that should agree, and boundary nodes'
+/// distances from the centre (sphere) or axis (roller), relative to the radius.
+pub const SHAPE_TOLERANCE: f64 = 0.03;
+/// Below this many particle spacings across the contact radius the figures are coarse.
+pub const MIN_CONTACT_SPACINGS: f64 = 5.0;
+/// Penalty radius of the contact over the body's radius: the demo's 100 m on R = 1 m, scaled
+/// with the body so that the penetration stays the same small fraction of the approach.
+const PENALTY_RATIO: f64 = 100.0;
+
+/// The shape measured from a mesh.
+#[derive(Clone, Debug, Serialize)]
+pub struct MeshShape {
+    /// "sphere" or "roller".
+    pub shape: String,
+    /// Centre of the bounding box of the solids' corner nodes.
+    pub centre: [f64; 3],
+    /// Radius, m: half the largest extent across the axis (sphere: of the three).
+    pub radius: f64,
+    /// Roller: the axis ("x", "y" or "z").
+    pub axis: Option<String>,
+    /// Roller: the coordinates of its end faces along the axis.
+    pub ends: Option<[f64; 2]>,
+    /// The largest distance of a boundary node (end faces aside) from the sphere or the
+    /// cylinder's surface, relative to the radius.
+    pub max_deviation: f64,
+    /// Which way the body is pressed onto the plane ("-z", or "-x" for a roller along z).
+    pub pressed_along: String,
+    #[serde(skip)]
+    axis_index: Option<usize>,
+    #[serde(skip)]
+    press: usize,
+    #[serde(skip)]
+    lowest: f64,
+}
+
+/// What `validate --mesh` reports.
+#[derive(Clone, Debug, Serialize)]
+pub struct MeshValidation {
+    pub mesh: PathBuf,
+    pub format: String,
+    pub shape: MeshShape,
+    /// Hertz contact radius or half-width, m.
+    pub theory_contact_radius: f64,
+    /// The particle spacing Δ of the mesh (the run's grid spacing), m.
+    pub spacing: f64,
+    /// `a/Δ`: particle spacings across the contact radius.
+    pub contact_spacings: f64,
+    pub warnings: Vec<String>,
+    /// The scene that was run.
+    pub scene: PathBuf,
+    pub rows: Vec<ValidationRow>,
+}
+
+impl MeshValidation {
+    /// The printed report: the shape, `a/Δ`, the table with the peak column.
+    pub fn to_text(&self) -> String {
+        let s = &self.shape;
+        let mut out = format!(
+            "{} ({}): {}, R = {:.6} m, centre [{:.4}, {:.4}, {:.4}]",
+            self.mesh.display(),
+            self.format,
+            s.shape,
+            s.radius,
+            s.centre[0],
+            s.centre[1],
+            s.centre[2]
+        );
+        if let (Some(axis), Some(ends)) = (&s.axis, s.ends) {
+            out.push_str(&format!(
+                ", axis {axis} from {:.4} to {:.4} (symmetry planes: plane strain)",
+                ends[0], ends[1]
+            ));
+        }
+        out.push_str(&format!(
+            "; boundary nodes within {:.2} % of R; pressed along {}\n",
+            100.0 * s.max_deviation,
+            s.pressed_along
+        ));
+        out.push_str(&format!(
+            "a/Δ = {:.2}: the Hertz contact {} a = {:.4} m spans {:.1} particle spacings (Δ = {:.4} m)\n",
+            self.contact_spacings,
+            if s.axis.is_some() { "half-width" } else { "radius" },
+            self.theory_contact_radius,
+            self.contact_spacings,
+            self.spacing
+        ));
+        for w in &self.warnings {
+            out.push_str(&format!("warning: {w}\n"));
+        }
+        out.push('\n');
+        out.push_str(&table_with_peak(&self.rows));
+        if let Some(r) = self.rows.first() {
+            out.push_str(&format!(
+                "\nScene: {}\nFrames: {}\nChart: {}\n",
+                self.scene.display(),
+                r.output_pvd.display(),
+                r.chart.display()
+            ));
+        }
+        out
+    }
+}
+
+/// Measures the shape `problem` (sphere or roller) of `mesh`, read from `path`; `tol` decides
+/// which nodes lie on a flat end face (the case's own tolerance for symmetry planes).
+pub fn measure(mesh: &Mesh, path: &Path, problem: Problem, tol: f64) -> Result<MeshShape> {
+    let corner = mesh.solid_corner_mask();
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for (n, p) in mesh.coords.iter().enumerate() {
+        if corner[n] {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    if !lo[0].is_finite() {
+        return Err(Error::input(format!(
+            "{}: no 3D elements: validate --mesh needs a solid mesh",
+            path.display()
+        )));
+    }
+    let ext = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
+    let centre = [
+        0.5 * (lo[0] + hi[0]),
+        0.5 * (lo[1] + hi[1]),
+        0.5 * (lo[2] + hi[2]),
+    ];
+    let faces = boundary_faces(mesh);
+    let boundary = |keep: &dyn Fn(&[u32]) -> bool| -> Vec<u32> {
+        let mut nodes: Vec<u32> = faces
+            .boundary
+            .iter()
+            .filter(|f| keep(f.corners()))
+            .flat_map(|f| f.corners().iter().copied())
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    };
+    let dims = format!("{:.4} × {:.4} × {:.4} m", ext[0], ext[1], ext[2]);
+    match problem {
+        Problem::Sphere => {
+            let hint = "validate --mesh --case sphere needs a solid sphere";
+            let radius = 0.5 * ext.iter().fold(0.0f64, |a, &b| a.max(b));
+            let narrow = ext.iter().fold(f64::INFINITY, |a, &b| a.min(b)) / (2.0 * radius);
+            if !(radius > 0.0) || narrow < 1.0 - SHAPE_TOLERANCE {
+                return Err(Error::input(format!(
+                    "{}: not a sphere: its bounding box is {dims}; a sphere's three extents agree within {} % ({hint})",
+                    path.display(),
+                    100.0 * SHAPE_TOLERANCE
+                )));
+            }
+            let c = Vec3::from(centre);
+            let off = |n: u32| (Vec3::from(mesh.coords[n as usize]) - c).norm() / radius - 1.0;
+            let (node, dev) = worst(&boundary(&|_| true), off);
+            if dev > SHAPE_TOLERANCE {
+                return Err(Error::input(format!(
+                    "{}: not a sphere: boundary node {} lies {:.4} m from the centre [{:.4}, {:.4}, {:.4}], {:+.1} % off the radius {radius:.4} m; a solid sphere's boundary nodes lie on it within {} % ({hint})",
+                    path.display(),
+                    mesh.node_ids[node as usize],
+                    radius * (1.0 + off(node)),
+                    centre[0],
+                    centre[1],
+                    centre[2],
+                    100.0 * off(node),
+                    100.0 * SHAPE_TOLERANCE
+                )));
+            }
+            Ok(MeshShape {
+                shape: "sphere".into(),
+                centre,
+                radius,
+                axis: None,
+                ends: None,
+                max_deviation: dev,
+                pressed_along: "-z".into(),
+                axis_index: None,
+                press: 2,
+                lowest: lo[2],
+            })
+        }
+        _ => {
+            let hint = "validate --mesh --case roller needs a solid circular cylinder with its axis along x, y or z and flat end faces";
+            let mut reasons = Vec::new();
+            for k in [1, 0, 2] {
+                let (i, j) = if k == 0 {
+                    (1, 2)
+                } else if k == 1 {
+                    (0, 2)
+                } else {
+                    (0, 1)
+                };
+                let radius = 0.5 * ext[i].max(ext[j]);
+                let name = ["x", "y", "z"][k];
+                if !(radius > 0.0) || ext[i].min(ext[j]) / (2.0 * radius) < 1.0 - SHAPE_TOLERANCE {
+                    reasons.push(format!(
+                        "with its axis along {name}, its {} × {} extents {:.4} × {:.4} m are not a circle's (within {} %)",
+                        ["x", "y", "z"][i],
+                        ["x", "y", "z"][j],
+                        ext[i],
+                        ext[j],
+                        100.0 * SHAPE_TOLERANCE
+                    ));
+                    continue;
+                }
+                let on_end = |n: u32| {
+                    let y = mesh.coords[n as usize][k];
+                    (y - lo[k]).abs() <= tol || (y - hi[k]).abs() <= tol
+                };
+                let side = boundary(&|f: &[u32]| !f.iter().all(|&n| on_end(n)));
+                let off = |n: u32| {
+                    let p = mesh.coords[n as usize];
+                    (p[i] - centre[i]).hypot(p[j] - centre[j]) / radius - 1.0
+                };
+                let (node, dev) = worst(&side, off);
+                if dev > SHAPE_TOLERANCE {
+                    reasons.push(format!(
+                        "with its axis along {name}, boundary node {} (off the end faces {name} = {:.4} and {:.4}) lies {:.4} m from the axis, {:+.1} % off the radius {radius:.4} m (within {} % needed)",
+                        mesh.node_ids[node as usize],
+                        lo[k],
+                        hi[k],
+                        radius * (1.0 + off(node)),
+                        100.0 * off(node),
+                        100.0 * SHAPE_TOLERANCE
+                    ));
+                    continue;
+                }
+                let press = if k == 2 { 0 } else { 2 };
+                return Ok(MeshShape {
+                    shape: "roller".into(),
+                    centre,
+                    radius,
+                    axis: Some(name.into()),
+                    ends: Some([lo[k], hi[k]]),
+                    max_deviation: dev,
+                    pressed_along: format!("-{}", ["x", "y", "z"][press]),
+                    axis_index: Some(k),
+                    press,
+                    lowest: lo[press],
+                });
+            }
+            Err(Error::input(format!(
+                "{}: not a circular cylinder (bounding box {dims}): {} ({hint})",
+                path.display(),
+                reasons.join("; ")
+            )))
+        }
+    }
+}
+
+/// The node of `nodes` farthest off the surface, and its `|off|`.
+fn worst(nodes: &[u32], off: impl Fn(u32) -> f64) -> (u32, f64) {
+    nodes
+        .iter()
+        .map(|&n| (n, off(n).abs()))
+        .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a })
+}
+
+/// A TOML number that always reads back as a float (`0.0`, `1e-5`, `-1.0`).
+fn num(x: f64) -> String {
+    format!("{x:?}")
+}
+
+fn vector(v: [f64; 3]) -> String {
+    format!("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]))
+}
+
+/// The validation case of `shape`, measured on the mesh at `mesh` (an absolute path), with
+/// the particle spacing `spacing` (for the table).
+pub fn mesh_case(
+    mesh: &Path,
+    format: Option<Format>,
+    shape: &MeshShape,
+    spacing: f64,
+) -> ValidationCase {
+    let radius = shape.radius;
+    let a = CONTACT_RATIO * radius;
+    let e_star = e_star_rigid(YOUNGS, POISSON);
+    let mut unit = [0.0; 3];
+    unit[shape.press] = 1.0;
+    let mut point = shape.centre;
+    point[shape.press] = shape.lowest;
+    let (problem, name, load, total, size, reference) = match (shape.axis_index, shape.ends) {
+        (Some(k), Some([y0, y1])) => {
+            // Eq. 39 (METHOD.md §7): a² = 4PR/(πE*) for the load P per unit length.
+            let per_length = std::f64::consts::PI * e_star * a * a / (4.0 * radius);
+            let mut axis = Vec3::zeros();
+            axis[k] = 1.0;
+            (
+                Problem::Roller,
+                "roller",
+                per_length,
+                per_length * (y1 - y0),
+                3.0 * radius.max(y1 - y0),
+                Reference::Roller {
+                    load_per_length: per_length,
+                    radius,
+                    e_stars: vec![("rigid plane".into(), e_star)],
+                    axis,
+                },
+            )
+        }
+        _ => {
+            // Eq. 34: a³ = 3PR/(4E*).
+            let load = 4.0 * e_star * a * a * a / (3.0 * radius);
+            (
+                Problem::Sphere,
+                "sphere",
+                load,
+                load,
+                3.0 * radius,
+                Reference::Sphere {
+                    load,
+                    radius,
+                    e_stars: vec![("rigid plane".into(), e_star)],
+                },
+            )
+        }
+    };
+    let mut force = [0.0; 3];
+    force[shape.press] = -total;
+    let quoted = toml::Value::String(mesh.display().to_string()).to_string();
+    let format_line = format
+        .map(|f| format!("format = \"{}\"\n", f.name()))
+        .unwrap_or_default();
+    let load_note = match problem {
+        Problem::Roller => format!("P = {} N/m over the length", num(load)),
+        _ => format!("P = {} N", num(load)),
+    };
+    let mut scene = format!(
+        r#"# Hertz {name} on a user's mesh against a rigid plane (pdcontact validate --mesh): R = {r} m
+# measured from the mesh, load such that a = {ratio} R. Run it again with: pdcontact run scene.toml
+[solver]
+kind = "adr"               # quasi-static: adaptive dynamic relaxation
+tolerance = 1e-4
+max_iterations = 100000
+
+[output]
+every = 1000000
+
+[[body]]
+name = "{name}"
+mesh = {quoted}
+{format_line}kinematics = "small"         # Hertz theory is small-strain: compare like with like
+[body.material]
+youngs_modulus = {e:e}
+poisson_ratio = {POISSON}
+density = {density}
+
+[[body]]
+name = "plane"
+kind = "rigid"
+generator = {{ shape = "plane", point = {point}, normal = {normal}, size = {size} }}
+
+[[load]]
+body = "{name}"              # spread over the body by volume
+force = {force}     # {load_note}
+
+[[contact]]
+slave = "{name}"
+master = "plane"
+radius = {penalty}             # a stiff penalty: penetration stays far below the approach
+"#,
+        r = num(radius),
+        ratio = CONTACT_RATIO,
+        e = YOUNGS,
+        density = num(DENSITY),
+        point = vector(point),
+        normal = vector(unit),
+        size = num(size),
+        force = vector(force),
+        penalty = num(PENALTY_RATIO * radius),
+    );
+    if let (Some(k), Some([y0, y1])) = (shape.axis_index, shape.ends) {
+        let axis = ["x", "y", "z"][k];
+        scene.push_str(&format!(
+            r#"
+[[symmetry]]           # plane strain: mirror images on both end faces
+body = "{name}"
+axis = "{axis}"
+at = {y0}
+
+[[symmetry]]
+body = "{name}"
+axis = "{axis}"
+at = {y1}
+keep = "negative"
+"#,
+            y0 = num(y0),
+            y1 = num(y1),
+        ));
+    }
+    ValidationCase {
+        problem,
+        set: Set::Mesh,
+        label: "mesh".into(),
+        spacing,
+        horizon_factor: DEFAULT_HORIZON_FACTOR,
+        scene,
+        reference,
+    }
+}
+
+/// Reads the mesh at `path`, measures the shape, runs the Hertz scene into
+/// `folder/<sphere|roller>-mesh/` and compares it with theory.
+pub fn validate_mesh(
+    path: &Path,
+    format: Option<Format>,
+    problem: Problem,
+    folder: &Path,
+    quiet: bool,
+) -> Result<MeshValidation> {
+    if problem == Problem::Punch {
+        return Err(Error::input(
+            "validate --mesh runs the Hertz sphere or roller: use --case sphere or --case roller",
+        ));
+    }
+    let data = std::fs::read(path).map_err(|e| {
+        crate::importers::ImportError::whole_file(path, "a readable file", e.to_string())
+    })?;
+    let format_used = match format {
+        Some(f) => f,
+        None => crate::importers::detect_format(path, &data)?,
+    };
+    let mesh = crate::importers::read_format(path, &data, format_used)?;
+    drop(data);
+    let spacing = discretize(&mesh, None)?.spacing;
+    let shape = measure(&mesh, path, problem, 1e-6 * spacing)?;
+    drop(mesh);
+    let a = CONTACT_RATIO * shape.radius;
+    let contact_spacings = a / spacing;
+    let mut warnings = Vec::new();
+    if contact_spacings < MIN_CONTACT_SPACINGS {
+        warnings.push(format!(
+            "the contact spans only {contact_spacings:.1} spacings (a/Δ < {MIN_CONTACT_SPACINGS}); expect larger errors; refine the mesh near the contact"
+        ));
+    }
+    let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+    let case = mesh_case(&absolute, format, &shape, spacing);
+    if !quiet {
+        eprintln!(
+            "{} on {}: R = {:.4} m, Δ = {spacing:.4} m, a/Δ = {contact_spacings:.1} ...",
+            case.problem.name(),
+            path.display(),
+            shape.radius
+        );
+    }
+    let rows = run_case(&case, folder, quiet)?;
+    let scene = folder
+        .join(format!("{}-{}", case.problem.name(), case.label))
+        .join("scene.toml");
+    Ok(MeshValidation {
+        mesh: path.to_path_buf(),
+        format: format_used.name().into(),
+        shape,
+        theory_contact_radius: a,
+        spacing,
+        contact_spacings,
+        warnings,
+        scene,
+        rows,
+    })
+}
