@@ -144,7 +144,8 @@ pub(super) fn fit_paraboloid(samples: &[[f64; 3]], window: f64) -> Option<[f64; 
     let h_min = samples.iter().map(|p| p[2]).fold(f64::MAX, f64::min);
     let mut kappa = 0.0;
     let mut hessian = [0.0; 3];
-    for _ in 0..4 {
+    // A fixed point: each pass shrinks the error by about (window/R)².
+    for _ in 0..100 {
         let b = DVector::from_fn(n, |i, _| {
             let dh = samples[i][2] - h_min;
             samples[i][2] - 0.5 * kappa * dh * dh
@@ -152,9 +153,14 @@ pub(super) fn fit_paraboloid(samples: &[[f64; 3]], window: f64) -> Option<[f64; 
         let c = svd.solve(&b, 0.0).ok()?;
         let w2 = window * window;
         hessian = [2.0 * c[3] / w2, c[4] / w2, 2.0 * c[5] / w2];
-        kappa = principal(hessian, Vec3::x(), Vec3::y()).0.max(0.0);
+        let next = principal(hessian, Vec3::x(), Vec3::y()).0.max(0.0);
+        let done = (next - kappa).abs() <= 1e-12 * next;
+        kappa = next;
+        if done {
+            break;
+        }
     }
-    Some(hessian)
+    hessian.iter().all(|x| x.is_finite()).then_some(hessian)
 }
 
 /// Principal curvatures `κ₁ ≥ κ₂` of `[H_uu, H_uv, H_vv]` in the frame `(e1, e2)`, and the
@@ -233,4 +239,77 @@ pub(super) fn line_length(
         }
     }
     (hi - lo > band).then_some(hi - lo)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Heights of points of a surface `h(u, v)` on a ring grid out to `reach`.
+    fn grid(reach: f64, h: impl Fn(f64, f64) -> f64) -> Vec<[f64; 3]> {
+        let mut out = Vec::new();
+        for i in -6..=6 {
+            for j in -6..=6 {
+                let (u, v) = (reach * i as f64 / 6.0, reach * j as f64 / 6.0);
+                if u * u + v * v <= reach * reach {
+                    out.push([u, v, h(u, v)]);
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn the_sagitta_corrected_fit_is_exact_on_a_sphere_and_a_cylinder() {
+        // Window half the radius: a plain paraboloid would be 10 % off.
+        let r = 2.0;
+        let sphere = grid(1.0, |u, v| r - (r * r - u * u - v * v).sqrt());
+        let h = fit_paraboloid(&sphere, 1.0).unwrap();
+        let (k1, k2, _) = principal(h, Vec3::x(), Vec3::y());
+        assert!(
+            (k1 * r - 1.0).abs() < 1e-9 && (k2 * r - 1.0).abs() < 1e-9,
+            "{k1} {k2}"
+        );
+        let cylinder = grid(1.0, |u, _| r - (r * r - u * u).sqrt());
+        let h = fit_paraboloid(&cylinder, 1.0).unwrap();
+        let (k1, k2, dir) = principal(h, Vec3::x(), Vec3::y());
+        assert!((k1 * r - 1.0).abs() < 1e-9 && k2.abs() < 1e-9, "{k1} {k2}");
+        assert!((dir.x.abs() - 1.0).abs() < 1e-9, "{dir:?}");
+        // A tilted plane and a bowl: no curvature, negative curvature.
+        let plane = grid(1.0, |u, v| 0.1 * u - 0.2 * v + 0.3);
+        let h = fit_paraboloid(&plane, 1.0).unwrap();
+        assert!(h.iter().all(|x| x.abs() < 1e-12), "{h:?}");
+        let bowl = grid(1.0, |u, v| -(u * u + v * v) / (2.0 * r));
+        let (k1, _, _) = principal(fit_paraboloid(&bowl, 1.0).unwrap(), Vec3::x(), Vec3::y());
+        assert!(k1 < 0.0);
+        // Points on a line cannot give a surface.
+        let line: Vec<[f64; 3]> = (0..10).map(|i| [i as f64, 0.0, 0.0]).collect();
+        assert!(fit_paraboloid(&line, 1.0).is_none());
+    }
+
+    #[test]
+    fn images_across_symmetry_planes() {
+        let planes = [
+            SymmetryPlane { axis: 0, at: 0.0 },
+            SymmetryPlane { axis: 1, at: 1.0 },
+        ];
+        assert_eq!(images(Vec3::new(0.5, 0.5, 0.0), &planes).len(), 4);
+        assert!(images(Vec3::new(0.5, 0.5, 0.0), &planes).contains(&Vec3::new(-0.5, 1.5, 0.0)));
+        // A point on both planes is its own image.
+        assert_eq!(images(Vec3::new(0.0, 1.0, 3.0), &planes).len(), 1);
+        assert_eq!(images(Vec3::new(0.0, 0.5, 3.0), &planes).len(), 2);
+    }
+
+    #[test]
+    fn rays_hit_triangles_inside_only() {
+        let (a, b, c) = (Vec3::zeros(), Vec3::x(), Vec3::y());
+        let down = -Vec3::z();
+        let s = ray_triangle(Vec3::new(0.2, 0.2, 1.5), down, a, b, c).unwrap();
+        assert!((s - 1.5).abs() < 1e-12);
+        assert!(ray_triangle(Vec3::new(0.8, 0.8, 1.0), down, a, b, c).is_none());
+        assert!(ray_triangle(Vec3::new(0.2, 0.2, 1.0), Vec3::x(), a, b, c).is_none());
+        let (e1, e2) = tangent_frame(down);
+        assert!(e1.dot(&down).abs() < 1e-12 && e2.dot(&down).abs() < 1e-12);
+        assert!((e1.cross(&e2).dot(&down) - 1.0).abs() < 1e-12);
+    }
 }
