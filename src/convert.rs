@@ -7,8 +7,13 @@ use std::time::Instant;
 use pdcontact_importers::{read_path, Format, Mesh, SetKind};
 use serde::Serialize;
 
+use crate::case::segments::MasterSegment;
 use crate::case::{CaseOptions, PdCase};
+use crate::contact::estimate::{
+    resolve, sig, ContactResolution, ContactSurface, RESOLVED_SPACINGS, SMALL_STRAIN_RATIO,
+};
 use crate::error::{Error, Result};
+use crate::math::Vec3;
 use crate::output::vtk::{write_atomically, write_vtu, CellSpec, Field};
 
 /// Seconds spent per stage.
@@ -46,14 +51,18 @@ pub struct ConvertSummary {
     pub correction_energy_error: f64,
     /// Particles the correction left more than 1 % off the bulk energy.
     pub correction_unbalanced: usize,
-    /// What the importer and the mesh quality checks found.
+    /// What the importer and the mesh quality checks found, then what the contact estimate
+    /// says of `case.toml`'s contact ([`SkeletonLoad`]).
     pub warnings: Vec<String>,
+    /// The Hertz estimate of `case.toml`'s contact (the body on the plane under its load),
+    /// the particle spacing and tributary-area ratio there.
+    pub contact_estimates: Vec<ContactResolution>,
     pub seconds: ConvertSeconds,
 }
 
 impl ConvertSummary {
-    /// Summarises a built case.
-    pub fn of(case: &PdCase, seconds: ConvertSeconds) -> ConvertSummary {
+    /// Summarises a built case and the skeleton's contact.
+    pub fn of(case: &PdCase, skeleton: &SkeletonLoad, seconds: ConvertSeconds) -> ConvertSummary {
         let agreement = case.surface_agreement();
         ConvertSummary {
             particles: case.particles.len(),
@@ -71,7 +80,14 @@ impl ConvertSummary {
             correction_passes: case.correction.passes,
             correction_energy_error: case.correction.max_energy_error,
             correction_unbalanced: case.correction.unbalanced,
-            warnings: case.mesh.warnings.clone(),
+            warnings: case
+                .mesh
+                .warnings
+                .iter()
+                .chain(&skeleton.warnings)
+                .cloned()
+                .collect(),
+            contact_estimates: vec![skeleton.resolution.clone()],
             seconds,
         }
     }
@@ -136,7 +152,8 @@ pub fn convert(
     })?;
     std::fs::create_dir_all(out).map_err(|e| Error::output(out, e))?;
     let t = Instant::now();
-    write_case_files(&case, mesh_path, out)?;
+    let skeleton = SkeletonLoad::choose(&case);
+    write_case_files_with(&case, mesh_path, out, &skeleton)?;
     let seconds = ConvertSeconds {
         import,
         discretize: case.times.discretize,
@@ -147,12 +164,146 @@ pub fn convert(
         write: t.elapsed().as_secs_f64(),
         total: start.elapsed().as_secs_f64(),
     };
-    let summary = ConvertSummary::of(&case, seconds);
+    let summary = ConvertSummary::of(&case, &skeleton, seconds);
     Ok((case, summary))
 }
 
-/// Writes `particles.vtu`, `segments.vtu` and `case.toml`.
+/// Young's modulus and Poisson's ratio of the skeleton's material.
+const SKELETON_YOUNGS: f64 = 1.0e9;
+const SKELETON_POISSON: f64 = 0.25;
+
+/// The load of `case.toml`, the body pressed on a rigid plane just under it, and what the
+/// contact estimate says of the contact it makes ([`crate::contact::estimate`]).
+///
+/// Where the body's underside is convex, the load is the one whose Hertz contact radius spans
+/// [`RESOLVED_SPACINGS`] particle spacings, the resolution of Hertz-level pressure, unless that
+/// takes the contact beyond small strain (`a > 0.15 R`, METHOD.md §7): the load then stops at
+/// `a = 0.15 R` and a warning says how fine a mesh the contact needs. Without an estimate (a
+/// flat or concave underside) the load strains the body by about 1e-4 over its footprint.
+#[derive(Clone, Debug)]
+pub struct SkeletonLoad {
+    /// Total force pressing the body down onto the plane, N.
+    pub force: f64,
+    /// Why this force (the comment on `case.toml`'s load line).
+    pub reason: String,
+    /// The estimate at this force.
+    pub resolution: ContactResolution,
+    /// What the estimate warns of.
+    pub warnings: Vec<String>,
+}
+
+impl SkeletonLoad {
+    /// Chooses the load for a case (the body named "part", the plane "plane").
+    pub fn choose(case: &PdCase) -> SkeletonLoad {
+        let (lo, hi) = case.mesh.bbox().unwrap_or(([0.0; 3], [1.0; 3]));
+        let size = plane_size(case);
+        let centre = [0.5 * (hi[0] + lo[0]), 0.5 * (hi[1] + lo[1]), lo[2]];
+        let corners: Vec<Vec3> = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+            .iter()
+            .map(|[x, y]| {
+                Vec3::new(
+                    centre[0] + 0.5 * size * x,
+                    centre[1] + 0.5 * size * y,
+                    lo[2],
+                )
+            })
+            .collect();
+        let faces = [MasterSegment {
+            nodes: [0, 1, 2, 3],
+            area: size * size,
+            normal: Vec3::z(),
+        }];
+        let plane = ContactSurface {
+            name: "plane",
+            points: &corners,
+            faces: &faces,
+            planes: &[],
+            tributary: None,
+            load: Vec3::zeros(),
+            compliance: 0.0,
+            grid_spacing: 0.0,
+        };
+        let compliance = (1.0 - SKELETON_POISSON * SKELETON_POISSON) / SKELETON_YOUNGS;
+        let at = |force: f64| {
+            let part = ContactSurface::of_case("part", case, -force * Vec3::z(), compliance);
+            resolve(&part, &plane)
+        };
+        let footprint = ((hi[0] - lo[0]) * (hi[1] - lo[1])).max(1e-30);
+        let mut force = 1e-4 * SKELETON_YOUNGS * footprint;
+        let mut resolution = at(force);
+        if resolution.estimate.is_none() || !(resolution.spacing > 0.0) {
+            let warnings = resolution.warnings();
+            return SkeletonLoad {
+                force,
+                reason: "strains the body by about 1e-4 over its footprint (its underside is not convex: no Hertz estimate)".into(),
+                resolution,
+                warnings,
+            };
+        }
+        // The spacing is measured within 2a of the contact: settle a and Δ together.
+        let mut capped = false;
+        for _ in 0..4 {
+            let e = resolution.estimate.as_ref().expect("estimated");
+            let most = SMALL_STRAIN_RATIO * e.curvature_radius();
+            let target = RESOLVED_SPACINGS * resolution.spacing;
+            capped = target > most;
+            force *= e.load_factor(target.min(most));
+            resolution = at(force);
+        }
+        let e = resolution.estimate.clone().expect("estimated");
+        let n = resolution.spacings.unwrap_or(0.0);
+        let (reason, mut warnings) = if capped && n < RESOLVED_SPACINGS {
+            (
+                format!(
+                    "expected Hertz contact {} ≈ {} m = {SMALL_STRAIN_RATIO} R (R = {} m), the most small strain allows; {RESOLVED_SPACINGS} particle spacings across it need Δ ≤ {} m",
+                    e.what(), sig(e.radius), sig(e.curvature_radius()), sig(e.radius / RESOLVED_SPACINGS)
+                ),
+                vec![format!(
+                    "case.toml: the load {} N gives an expected contact {} ≈ {} m, the most small-strain Hertz allows on this body (a = {SMALL_STRAIN_RATIO} R, R = {} m), which spans {n:.1} particle spacings (Δ = {} m); Hertz-level pressure needs ≥ {RESOLVED_SPACINGS} spacings across it — refine the mesh near the contact to Δ ≤ {} m",
+                    sig(force), e.what(), sig(e.radius), sig(e.curvature_radius()), sig(resolution.spacing), sig(e.radius / RESOLVED_SPACINGS)
+                )],
+            )
+        } else {
+            (
+                format!(
+                    "expected Hertz contact {} ≈ {} m = {n:.1} particle spacings (Δ = {} m), the resolution of Hertz-level pressure",
+                    e.what(), sig(e.radius), sig(resolution.spacing)
+                ),
+                resolution.resolution_warning().into_iter().collect(),
+            )
+        };
+        warnings.extend(resolution.area_warning());
+        warnings.extend(resolution.graded_warning());
+        SkeletonLoad {
+            force,
+            reason,
+            resolution,
+            warnings,
+        }
+    }
+}
+
+/// Side of the skeleton's square plane: twice the body's footprint.
+fn plane_size(case: &PdCase) -> f64 {
+    let (lo, hi) = case.mesh.bbox().unwrap_or(([0.0; 3], [1.0; 3]));
+    2.0 * (hi[0] - lo[0])
+        .max(hi[1] - lo[1])
+        .max(case.particles.spacing)
+}
+
+/// Writes `particles.vtu`, `segments.vtu` and `case.toml` (with [`SkeletonLoad::choose`]'s
+/// load).
 pub fn write_case_files(case: &PdCase, mesh_path: &Path, out: &Path) -> Result<()> {
+    write_case_files_with(case, mesh_path, out, &SkeletonLoad::choose(case))
+}
+
+/// Writes `particles.vtu`, `segments.vtu` and `case.toml` with the skeleton's load.
+pub fn write_case_files_with(
+    case: &PdCase,
+    mesh_path: &Path,
+    out: &Path,
+    skeleton: &SkeletonLoad,
+) -> Result<()> {
     let p = &case.particles;
     let mesh = &case.mesh;
     write_vtu(
@@ -189,21 +340,17 @@ pub fn write_case_files(case: &PdCase, mesh_path: &Path, out: &Path) -> Result<(
             Field::vector("normal", segs.iter().map(|s| s.normal).collect()),
         ],
     )?;
-    let toml = case_toml(case, mesh_path, out);
+    let toml = case_toml(case, mesh_path, out, skeleton);
     let path = out.join("case.toml");
     write_atomically(&path, |w| std::io::Write::write_all(w, toml.as_bytes()))
 }
 
 /// The scene skeleton: this body pressed by a load onto a rigid plane just below it.
-fn case_toml(case: &PdCase, mesh_path: &Path, out: &Path) -> String {
+fn case_toml(case: &PdCase, mesh_path: &Path, out: &Path, skeleton: &SkeletonLoad) -> String {
     let mesh_ref = relative_mesh_path(mesh_path, out);
     let (lo, hi) = case.mesh.bbox().unwrap_or(([0.0; 3], [1.0; 3]));
-    let size: Vec<f64> = (0..3).map(|k| hi[k] - lo[k]).collect();
     let centre: Vec<f64> = (0..3).map(|k| 0.5 * (hi[k] + lo[k])).collect();
-    // A load that strains the body by about 1e-4: P ≈ 1e-4 E A over its footprint.
-    let youngs = 1.0e9;
-    let footprint = (size[0] * size[1]).max(1e-30);
-    let load = 1e-4 * youngs * footprint;
+    let youngs = SKELETON_YOUNGS;
     let mut sets = String::new();
     for s in &set_comments(&case.mesh) {
         sets.push_str(&format!("#   {s}\n"));
@@ -211,7 +358,7 @@ fn case_toml(case: &PdCase, mesh_path: &Path, out: &Path) -> String {
     if sets.is_empty() {
         sets.push_str("#   (the mesh defines no named sets)\n");
     }
-    let plane_size = 2.0 * size[0].max(size[1]).max(case.particles.spacing);
+    let plane_size = plane_size(case);
     format!(
         r#"# pdcontact scene made by `pdcontact convert` for {mesh_name}.
 # Run it with:  pdcontact run {case_path}
@@ -237,7 +384,7 @@ horizon_factor = {m}      # horizon δ = m Δ
 # scale = 1.0
 [body.material]
 youngs_modulus = {youngs:e}   # E, Pa
-poisson_ratio = 0.25          # bond-based PD requires 1/4
+poisson_ratio = {nu}          # bond-based PD requires 1/4
 density = 1000.0              # kg/m3
 
 # Named sets of this mesh, usable as `set = "..."` in loads and constraints:
@@ -251,7 +398,7 @@ motion = "fixed"
 [[load]]
 body = "part"
 # set = "top"             # a named node set; without it the force is spread over the whole body by volume
-force = [0.0, 0.0, {fz:e}]  # total force, N
+force = [0.0, 0.0, {fz:e}]  # total force, N: {reason}
 
 [[contact]]
 slave = "part"
@@ -261,10 +408,12 @@ master = "plane"
         case_path = out.join("case.toml").display(),
         spacing = case.particles.spacing,
         m = case.horizon_factor,
+        nu = SKELETON_POISSON,
         cx = centre[0],
         cy = centre[1],
         pz = lo[2],
-        fz = -load,
+        fz = -skeleton.force,
+        reason = skeleton.reason,
     )
 }
 

@@ -8,6 +8,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::body::Body;
+use crate::contact::estimate::ContactResolution;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::model::Model;
@@ -41,8 +42,13 @@ pub struct Outputs {
 pub struct RunSummary {
     pub scene: String,
     /// Warnings about the meshes (skipped element types, unused or duplicate nodes,
-    /// disconnected pieces), prefixed with the body's name.
+    /// disconnected pieces), prefixed with the body's name, then about the contacts (a
+    /// contact expected to span fewer than 3 particle spacings, uneven tributary areas where
+    /// it will be), prefixed with the pair.
     pub warnings: Vec<String>,
+    /// Per contact pair: the Hertz estimate of its contact under the loads, the slave's
+    /// particle spacing and tributary-area ratio there ([`crate::contact::estimate`]).
+    pub contact_estimates: Vec<ContactResolution>,
     pub particles: usize,
     pub bonds: usize,
     pub iterations: usize,
@@ -182,7 +188,7 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
         .collect();
     let mut model = Model::from_scene(scene)?;
     // What the importers and the quality checks found in the meshes, body by body.
-    let warnings: Vec<String> = model
+    let mut warnings: Vec<String> = model
         .bodies
         .iter()
         .filter_map(Body::as_pd)
@@ -194,6 +200,12 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
                 .map(move |w| format!("body \"{}\": {w}", pd.name))
         })
         .collect();
+    let contact_estimates = model.contact_resolution();
+    warnings.extend(
+        contact_estimates
+            .iter()
+            .flat_map(ContactResolution::warnings),
+    );
     if !options.quiet {
         for w in &warnings {
             eprintln!("warning: {w}");
@@ -248,6 +260,7 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
     let summary = RunSummary {
         scene: scene.source.clone(),
         warnings,
+        contact_estimates,
         particles: model.particles(),
         bonds: model.bonds(),
         iterations: stats.iterations,

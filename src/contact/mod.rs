@@ -24,8 +24,12 @@
 //!   `K = 4/(3(m_s + m_m)) √R`, `m = (1 − ν²)/E`, `m = 0` for a rigid body, `R = Δ/2` by
 //!   default (Eqs. 22-24); the reaction goes to the master's corner nodes with the weights
 //!   `N_i(r,t)`, or to the rigid body.
+//! * **estimate** ([`estimate`]): before a run, the Hertz contact radius each pair will make
+//!   under its loads, against the slave's particle spacing there (the warnings of `run` and
+//!   `convert`).
 
 mod broad;
+pub mod estimate;
 mod law;
 mod narrow;
 pub mod shortrange;

@@ -7,6 +7,7 @@ use rayon::prelude::*;
 
 use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
 use crate::case::pairs::{pair_forces, PairKinematics};
+use crate::contact::estimate::{resolve, ContactResolution, ContactSurface};
 use crate::contact::shortrange::ShortRangePass;
 use crate::contact::{hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::error::Result;
@@ -128,6 +129,33 @@ impl Model {
             evaluations: 0,
             positions,
         })
+    }
+
+    /// The contact pairs, slave and master, each once (the second pass of a two-pass pair is
+    /// its first reversed).
+    pub fn contact_pairs(&self) -> Vec<(usize, usize)> {
+        let mut pairs: Vec<(usize, usize)> = Vec::new();
+        for p in &self.passes {
+            if !pairs.contains(&(p.master, p.slave)) {
+                pairs.push((p.slave, p.master));
+            }
+        }
+        pairs.extend(self.short_range.iter().map(|p| (p.slave, p.master)));
+        pairs
+    }
+
+    /// The Hertz estimate of every contact pair under the applied loads, and how the slave's
+    /// particles resolve it ([`crate::contact::estimate`]), at the reference configuration.
+    pub fn contact_resolution(&self) -> Vec<ContactResolution> {
+        self.contact_pairs()
+            .into_iter()
+            .map(|(s, m)| {
+                resolve(
+                    &ContactSurface::of_body(&self.bodies[s]),
+                    &ContactSurface::of_body(&self.bodies[m]),
+                )
+            })
+            .collect()
     }
 
     /// Total particles.

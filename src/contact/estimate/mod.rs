@@ -1,0 +1,472 @@
+//! The contact a scene will make, estimated before it runs: where the slave first touches the
+//! master, the local radii of curvature there, the Hertz contact radius under the load, and how
+//! many particle spacings span it (METHOD.md §5, §7; Hertz 1882; Johnson, *Contact Mechanics*,
+//! 1985, §4.2-4.3).
+//!
+//! * **First contact.** The approach direction is the slave's applied load (or the master's,
+//!   reversed). The slave's surface nodes that lead along it are cast as rays onto the master's
+//!   faces that face them, and the master's leading nodes back onto the slave's faces; the
+//!   nearest hit is the first contact `q`, and the face hit gives the contact normal `d` (from
+//!   slave to master): the master's normal reversed, or the slave's own. The normal load `P` is
+//!   the applied force along `d` (the larger of the slave's load along `d` and the master's
+//!   against it); without one there is no estimate.
+//! * **Curvature.** Each body's surface nodes that face the other (and their mirror images
+//!   across its symmetry planes) are taken in a window around `q`, the smallest holding
+//!   [`FIT_POINTS`] of them, as heights `h(u, v)` above the tangent plane at `q`. A least-squares
+//!   paraboloid `h = c₀ + c₁u + c₂v + ½ uᵀHu` gives the curvature tensor `H`; the sagitta term is
+//!   moved to the data (`h − ½ κ h²`, iterated), which makes the fit exact on spheres and
+//!   cylinders whatever the window. A body with too few nodes near `q` (a rigid plane of a few
+//!   large faces) is flat at the contact's scale. The relative curvature is `H_slave + H_master`;
+//!   its principal curvatures `κ₁ ≥ κ₂`. Flat (`κ₁ D ≤ 10⁻³` over the slave's size `D`),
+//!   concave or saddle-shaped contacts have no estimate: nothing is said about them.
+//! * **Hertz.** `E* = 1/(m_s + m_m)`, `m = (1 − ν²)/E`, `m = 0` for a rigid body (Eq. 38, the
+//!   contact law's Eq. 24). A point contact (`κ₂/κ₁ ≥ 0.1`): `c = √(ab) = (3PR_e/(4E*))^⅓` with
+//!   `R_e = 1/√(κ₁κ₂)`, and the semi-minor axis `b = c (κ₂/κ₁)^⅓` (Johnson §4.3,
+//!   `b/a ≈ (κ₂/κ₁)^⅔`); a sphere gives `a = (3PR/(4E*))^⅓` (Eq. 36). A line contact (a
+//!   cylinder): `b = (4P′R/(πE*))^½` with `R = 1/κ₁` and `P′ = P/L`, `L` the length of the
+//!   slave's surface along the line (Eq. 40). A symmetry plane through the contact carries the
+//!   mirrored half of it: `P` doubles (for a line contact only across the line).
+//! * **Resolution.** `Δ` is the spacing of the slave's surface particles near the contact:
+//!   `√` of the median tributary area (a quad lattice's `Δ²`; `0.87 h²` per node on a
+//!   triangulated surface of size `h`). On the Hertz sphere `a/Δ = 5` gives 1 % MRE and the
+//!   structured demo at `a/Δ = 3.6` 8.6 %; at 2.5 the MRE is 5 % on radial layers and it grows
+//!   fast below (docs/VALIDATION.md, "Spacing"): below [`WARN_SPACINGS`] the run warns.
+//! * **Even areas.** The ratio of the 95th to the 5th percentile of the slave's surface
+//!   particles' tributary areas within `max(2a, window)` of the contact (the whole slave
+//!   without an estimate); above [`UNEVEN_AREA_RATIO`] the run warns. Measured (`convert` on
+//!   each mesh, areas within `max(2a, window)` of the lowest point): structured cubed spheres
+//!   1.05-1.13, gmsh-default tet4 and tet10 spheres 1.65-1.72, tets split into hexes 2.8-2.9
+//!   (these give the 5-6 % MRE of docs/VALIDATION.md, "Unstructured meshes": no warning);
+//!   (over the whole surface: 1.5-1.7 and 2.4-2.7); spheres graded from 0.01-0.02 to 0.2-0.3 m
+//!   within 0.15-0.3 m of the pole 12-15, with MRE 44-55 % under Hertz at `a = 0.15 m` (uniform
+//!   tet4 at the same `a/Δ`: 16-20 %); a box graded 14:1 along x 9.9, 45:1 37. A particle on a
+//!   symmetry plane counts with its whole area (twice the half its model holds).
+//! * **Graded meshes.** A body has one spacing `Δ_body` (the lattice spacing of its median
+//!   particle volume), which sets its horizon. Where the surface near the contact is much finer
+//!   than that (`Δ < ½ Δ_body`, [`GRADED_SPACING_RATIO`]) the mesh was graded toward the
+//!   contact, and the pressure there is far from Hertz even where the areas change slowly: a
+//!   gmsh sphere graded 0.03 → 0.15 m over 1 m (areas 3.4:1 near the pole, `Δ/Δ_body = 0.36`)
+//!   gave MRE 64 % at `a = 0.15 m`. Uniform meshes measure `Δ/Δ_body` = 0.80-0.89 (tet4,
+//!   tet10), 1.0-1.07 (tets split into hexes), 1.24-1.26 (cubed spheres); graded ones 0.34-0.43.
+
+mod geometry;
+
+use serde::Serialize;
+
+use crate::body::{Body, RigidBody};
+use crate::case::segments::MasterSegment;
+use crate::case::{PdCase, SymmetryPlane};
+use crate::math::Vec3;
+use geometry::{extent, first_contact, fit_curvature, line_length, principal, tangent_frame};
+
+/// `a/Δ` from which the pressure is at Hertz level (MRE 1 % on the Hertz sphere,
+/// docs/VALIDATION.md, "Spacing").
+pub const RESOLVED_SPACINGS: f64 = 5.0;
+/// `a/Δ` below which a contact is said to be poorly resolved.
+pub const WARN_SPACINGS: f64 = 3.0;
+/// 95th-to-5th percentile ratio of tributary areas above which they are said to be uneven.
+pub const UNEVEN_AREA_RATIO: f64 = 10.0;
+/// Surface spacing near the contact over the body's spacing below which the mesh is graded.
+pub const GRADED_SPACING_RATIO: f64 = 0.5;
+/// The largest `a/R` of small-strain Hertz contact (METHOD.md §7, the "hertz" set).
+pub const SMALL_STRAIN_RATIO: f64 = 0.15;
+/// Surface nodes (mirror images included) a curvature fit takes around the contact.
+pub const FIT_POINTS: usize = 20;
+/// Leading surface nodes of each body cast as rays to find the first contact.
+const CANDIDATES: usize = 256;
+/// `κ₂/κ₁` below which a contact is a line contact.
+const LINE_RATIO: f64 = 0.1;
+
+/// One body of a contact pair as the estimate sees it (reference configuration).
+#[derive(Clone, Copy, Debug)]
+pub struct ContactSurface<'a> {
+    pub name: &'a str,
+    /// Node positions (particles, or a rigid body's vertices).
+    pub points: &'a [Vec3],
+    /// Outward faces: master segments, or a rigid body's faces.
+    pub faces: &'a [MasterSegment],
+    /// Symmetry planes: the body is mirrored across them.
+    pub planes: &'a [SymmetryPlane],
+    /// Tributary area per particle (a deformable slave).
+    pub tributary: Option<&'a [f64]>,
+    /// Total applied force on the body, N.
+    pub load: Vec3,
+    /// `m = (1 − ν²)/E` (0 for a rigid body).
+    pub compliance: f64,
+    /// The body's grid spacing Δ (0 for a rigid body), m.
+    pub grid_spacing: f64,
+}
+
+impl<'a> ContactSurface<'a> {
+    /// A PD case with its load and material.
+    pub fn of_case(name: &'a str, case: &'a PdCase, load: Vec3, compliance: f64) -> Self {
+        ContactSurface {
+            name,
+            points: &case.particles.position,
+            faces: &case.segments.segments,
+            planes: &case.ghosts.planes,
+            tributary: Some(&case.segments.tributary_area),
+            load,
+            compliance,
+            grid_spacing: case.particles.spacing,
+        }
+    }
+
+    /// A rigid surface with its load and (optional) material.
+    pub fn of_rigid(rb: &'a RigidBody) -> Self {
+        ContactSurface {
+            name: &rb.name,
+            points: &rb.vertices,
+            faces: &rb.faces,
+            planes: &[],
+            tributary: None,
+            load: rb.load,
+            compliance: rb.material.map_or(0.0, |m| m.compliance()),
+            grid_spacing: 0.0,
+        }
+    }
+
+    /// A body of a scene, at its reference configuration, with the loads applied to it.
+    pub fn of_body(body: &'a Body) -> Self {
+        match body {
+            Body::Deformable(pd) => ContactSurface::of_case(
+                &pd.name,
+                &pd.case,
+                pd.load.iter().sum(),
+                pd.material.compliance(),
+            ),
+            Body::Rigid(rb) => ContactSurface::of_rigid(rb),
+        }
+    }
+
+    /// Distinct corner nodes of the faces whose outward normal has a positive component
+    /// along `toward` (all faces when `toward` is zero).
+    pub(crate) fn facing_nodes(&self, toward: Vec3) -> Vec<u32> {
+        let mut nodes: Vec<u32> = self
+            .faces
+            .iter()
+            .filter(|f| toward == Vec3::zeros() || f.normal.dot(&toward) > 0.0)
+            .flat_map(|f| f.nodes)
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    }
+}
+
+/// Whether the contact is a point (sphere-like, elliptical) or a line (cylinder-like).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ContactShape {
+    Point,
+    Line,
+}
+
+/// The Hertz estimate of one contact.
+#[derive(Clone, Debug, Serialize)]
+pub struct HertzEstimate {
+    /// First contact point, m.
+    pub centre: [f64; 3],
+    /// Contact normal, from the slave toward the master.
+    pub normal: [f64; 3],
+    /// Normal load of the whole contact (mirror images included), N.
+    pub load: f64,
+    /// `E*`, Pa.
+    pub e_star: f64,
+    /// Principal relative curvatures `κ₁ ≥ κ₂`, 1/m.
+    pub curvatures: [f64; 2],
+    pub shape: ContactShape,
+    /// Line contacts: the length `L` that carries the load (`P′ = P/L`), m.
+    pub line_length: Option<f64>,
+    /// Contact radius (point contact; the semi-minor axis of an elliptical one) or half-width
+    /// (line contact), m.
+    pub radius: f64,
+    /// Radius of the slave's curvature fit window, m.
+    pub window: f64,
+}
+
+/// What the estimate says about one contact pair.
+#[derive(Clone, Debug, Serialize)]
+pub struct ContactResolution {
+    pub slave: String,
+    pub master: String,
+    pub estimate: Option<HertzEstimate>,
+    /// Spacing of the slave's surface particles where the areas were measured, m.
+    pub spacing: f64,
+    /// The slave body's grid spacing Δ (its horizon is `m Δ`), m.
+    pub grid_spacing: f64,
+    /// `radius / spacing`.
+    pub spacings: Option<f64>,
+    /// 95th to 5th percentile of the tributary areas of the slave's surface particles near
+    /// the contact (the whole slave without an estimate).
+    pub area_ratio: f64,
+    /// Particles those percentiles are taken over.
+    pub area_particles: usize,
+    /// Radius around the contact centre they were taken within (`None`: the whole slave), m.
+    pub area_radius: Option<f64>,
+}
+
+impl ContactResolution {
+    /// The pair as warnings name it.
+    pub fn pair(&self) -> String {
+        format!("contact \"{}\"/\"{}\"", self.slave, self.master)
+    }
+
+    /// Warning (a): the expected contact spans fewer than [`WARN_SPACINGS`] spacings.
+    pub fn resolution_warning(&self) -> Option<String> {
+        let (e, n) = (self.estimate.as_ref()?, self.spacings?);
+        (n < WARN_SPACINGS).then(|| {
+            format!(
+                "{}: expected contact {} ≈ {} m spans {:.1} particle spacings (Δ = {} m); Hertz-level pressure needs ≥ {RESOLVED_SPACINGS} spacings across it — refine the mesh near the contact to Δ ≤ {} m, or raise the load",
+                self.pair(),
+                e.what(),
+                sig(e.radius),
+                n,
+                sig(self.spacing),
+                sig(e.radius / RESOLVED_SPACINGS),
+            )
+        })
+    }
+
+    /// Where the areas were measured, as warnings say it.
+    fn region(&self) -> String {
+        match (&self.estimate, self.area_radius) {
+            (Some(e), Some(r)) => {
+                // Round-off off the axes reads as noise: 6.12e-17 is 0.
+                let c = Vec3::from(e.centre);
+                let at = c.map(|x| if x.abs() > 1e-9 * c.norm() { x } else { 0.0 });
+                format!(
+                    "within {} m of the expected contact at [{}, {}, {}]",
+                    sig(r),
+                    sig(at.x),
+                    sig(at.y),
+                    sig(at.z)
+                )
+            }
+            _ => "over the whole surface".to_string(),
+        }
+    }
+
+    /// Warning (b): uneven tributary areas where the contact will be.
+    pub fn area_warning(&self) -> Option<String> {
+        (self.area_ratio > UNEVEN_AREA_RATIO).then(|| {
+            format!(
+                "{}: the tributary areas of \"{}\"'s surface particles vary {:.0}:1 {} (95th to 5th percentile of {} particles; above {UNEVEN_AREA_RATIO}:1 the contact pressure scatters with the mesh) — mesh the contact surface with elements of even size",
+                self.pair(),
+                self.slave,
+                self.area_ratio,
+                self.region(),
+                self.area_particles,
+            )
+        })
+    }
+
+    /// Warning (c): the surface where the contact will be is much finer than the body's
+    /// spacing (a mesh graded toward the contact).
+    pub fn graded_warning(&self) -> Option<String> {
+        (self.spacing > 0.0 && self.spacing < GRADED_SPACING_RATIO * self.grid_spacing).then(|| {
+            format!(
+                "{}: the surface particles of \"{}\" {} are {:.1} times closer (Δ = {} m) than the body's spacing Δ = {} m (the lattice spacing of its median particle volume, which sets the horizon: one spacing per body); pressures on a mesh graded toward the contact are far from Hertz — mesh the body with an even element size",
+                self.pair(),
+                self.slave,
+                self.region(),
+                self.grid_spacing / self.spacing,
+                sig(self.spacing),
+                sig(self.grid_spacing),
+            )
+        })
+    }
+
+    /// The warnings that apply.
+    pub fn warnings(&self) -> Vec<String> {
+        self.resolution_warning()
+            .into_iter()
+            .chain(self.area_warning())
+            .chain(self.graded_warning())
+            .collect()
+    }
+}
+
+impl HertzEstimate {
+    /// "radius" or "half-width".
+    pub fn what(&self) -> &'static str {
+        match self.shape {
+            ContactShape::Point => "radius",
+            ContactShape::Line => "half-width",
+        }
+    }
+
+    /// The smallest principal radius of relative curvature `1/κ₁`, m.
+    pub fn curvature_radius(&self) -> f64 {
+        1.0 / self.curvatures[0]
+    }
+
+    /// The factor on the load that gives a contact radius (half-width) `radius` instead:
+    /// `P ∝ a³` for a point contact, `P ∝ b²` for a line contact.
+    pub fn load_factor(&self, radius: f64) -> f64 {
+        let k = match self.shape {
+            ContactShape::Point => 3,
+            ContactShape::Line => 2,
+        };
+        (radius / self.radius).powi(k)
+    }
+}
+
+/// A number with three significant digits, without trailing noise.
+pub fn sig(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let digits = (2 - x.abs().log10().floor() as i32).max(0) as usize;
+    if (1e-3..1e5).contains(&x.abs()) {
+        format!("{x:.digits$}")
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
+/// Estimates the contact of `slave` pressed on `master` and measures the slave's surface
+/// particles there.
+pub fn resolve(slave: &ContactSurface, master: &ContactSurface) -> ContactResolution {
+    let estimate = estimate(slave, master);
+    let tributary = slave.tributary.unwrap_or(&[]);
+    let mut nodes = slave.facing_nodes(Vec3::zeros());
+    nodes.retain(|&n| tributary.get(n as usize).is_some_and(|&a| a > 0.0));
+    let mut area_radius = None;
+    if let Some((e, w)) = &estimate {
+        let r = (2.0 * e.radius).max(*w);
+        let c = Vec3::from(e.centre);
+        let near: Vec<u32> = nodes
+            .iter()
+            .copied()
+            .filter(|&n| (slave.points[n as usize] - c).norm() <= r)
+            .collect();
+        if near.len() >= 2 {
+            nodes = near;
+            area_radius = Some(r);
+        }
+    }
+    // A particle on a symmetry plane holds the half of its area on the model's side.
+    let whole = |n: u32| {
+        let x = slave.points[n as usize];
+        let cut = slave
+            .planes
+            .iter()
+            .filter(|pl| (x[pl.axis] - pl.at).abs() <= 1e-9 * (1.0 + pl.at.abs()))
+            .count();
+        tributary[n as usize] * 2f64.powi(cut as i32)
+    };
+    let mut areas: Vec<f64> = nodes.iter().map(|&n| whole(n)).collect();
+    areas.sort_by(f64::total_cmp);
+    let pick = |p: f64| areas[((areas.len() - 1) as f64 * p).round() as usize];
+    let (spacing, area_ratio) = if areas.is_empty() {
+        (0.0, 1.0)
+    } else {
+        (pick(0.5).sqrt(), pick(0.95) / pick(0.05))
+    };
+    let spacings = estimate
+        .as_ref()
+        .filter(|_| spacing > 0.0)
+        .map(|(e, _)| e.radius / spacing);
+    ContactResolution {
+        slave: slave.name.to_string(),
+        master: master.name.to_string(),
+        estimate: estimate.map(|(e, _)| e),
+        spacing,
+        grid_spacing: slave.grid_spacing,
+        spacings,
+        area_ratio,
+        area_particles: areas.len(),
+        area_radius,
+    }
+}
+
+/// The Hertz estimate and the slave's fit window, where geometry and loads give one.
+fn estimate(slave: &ContactSurface, master: &ContactSurface) -> Option<(HertzEstimate, f64)> {
+    let approach = if slave.load.norm() > 0.0 {
+        slave.load.normalize()
+    } else if master.load.norm() > 0.0 {
+        -master.load.normalize()
+    } else {
+        return None;
+    };
+    let (q, d) = first_contact(slave, master, approach)?;
+    let load = slave.load.dot(&d).max(-master.load.dot(&d));
+    if !(load > 0.0) {
+        return None;
+    }
+    let (e1, e2) = tangent_frame(d);
+    let slave_nodes = slave.facing_nodes(d);
+    let (hs, window) = fit_curvature(slave, &slave_nodes, q, d, e1, e2, -1.0)?;
+    let hm = fit_curvature(master, &master.facing_nodes(-d), q, d, e1, e2, 1.0)
+        .map_or([0.0; 3], |f| f.0);
+    let h = [hs[0] + hm[0], hs[1] + hm[1], hs[2] + hm[2]];
+    let (k1, k2, across) = principal(h, e1, e2);
+    let size = extent(slave.points, &slave_nodes);
+    if !(k1 * size > 1e-3) || k2 < -LINE_RATIO * k1 {
+        return None;
+    }
+    let e_star = 1.0 / (slave.compliance + master.compliance);
+    let on_plane =
+        |pl: &&SymmetryPlane| d[pl.axis].abs() < 0.1 && (q[pl.axis] - pl.at).abs() <= 0.1 * window;
+    let (shape, line_length, radius, load) = if k2 >= LINE_RATIO * k1 {
+        let p = load * 2f64.powi(slave.planes.iter().filter(on_plane).count() as i32);
+        let c = (3.0 * p / (k1 * k2).sqrt() / (4.0 * e_star)).cbrt();
+        (ContactShape::Point, None, c * (k2 / k1).cbrt(), p)
+    } else {
+        let doubled = slave
+            .planes
+            .iter()
+            .filter(on_plane)
+            .filter(|pl| across[pl.axis].abs() > 0.9)
+            .count();
+        let p = load * 2f64.powi(doubled as i32);
+        let length = line_length(slave, &slave_nodes, q, d, across, window)?;
+        let b = (4.0 * (p / length) / (k1 * std::f64::consts::PI * e_star)).sqrt();
+        (ContactShape::Line, Some(length), b, p)
+    };
+    let estimate = HertzEstimate {
+        centre: q.into(),
+        normal: d.into(),
+        load,
+        e_star,
+        curvatures: [k1, k2],
+        shape,
+        line_length,
+        radius,
+        window,
+    };
+    Some((estimate, window))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_read_with_three_digits() {
+        assert_eq!(sig(0.065518), "0.0655");
+        assert_eq!(sig(0.15), "0.150");
+        assert_eq!(sig(4.8e6), "4.80e6");
+        assert_eq!(sig(1.0), "1.00");
+        assert_eq!(sig(0.0), "0");
+    }
+
+    #[test]
+    fn the_load_scales_with_the_cube_or_square_of_the_radius() {
+        let mut e = HertzEstimate {
+            centre: [0.0; 3],
+            normal: [0.0, 0.0, -1.0],
+            load: 1.0,
+            e_star: 1.0,
+            curvatures: [1.0, 1.0],
+            shape: ContactShape::Point,
+            line_length: None,
+            radius: 0.1,
+            window: 0.3,
+        };
+        assert!((e.load_factor(0.2) - 8.0).abs() < 1e-12);
+        e.shape = ContactShape::Line;
+        assert!((e.load_factor(0.2) - 4.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,288 @@
+//! The contact estimate before a run (src/contact/estimate): the Hertz radius each pair will
+//! make under its loads against the theory, and the warnings of `run` and `convert` when the
+//! slave's particles resolve it poorly. No solve: the estimate reads the scene as built.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use pdcontact::contact::estimate::{ContactResolution, ContactShape};
+use pdcontact::model::Model;
+use pdcontact::output::analysis::{e_star_rigid, hertz_cylinder, hertz_sphere};
+use pdcontact::scene::Scene;
+use pdcontact::studies::scenarios::{
+    hertz_punch_case, hertz_roller_case, hertz_sphere_case, sphere_on_block_case, Reference,
+};
+
+const YOUNGS: f64 = 1.0e9;
+const POISSON: f64 = 0.25;
+
+fn repo(p: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pdcontact-estimate-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// The demo's scene (a body on a rigid plane at z = `floor`, loaded down by `load`) with a
+/// short explicit solve, so that `pdcontact run` ends at once.
+fn plane_scene(mesh: &Path, floor: f64, load: f64) -> String {
+    format!(
+        r#"
+[solver]
+kind = "explicit"
+end_time = 2e-7
+dt = 1e-7
+[output]
+folder = "out"
+every = 100000
+[[body]]
+name = "ball"
+mesh = "{}"
+[body.material]
+youngs_modulus = {YOUNGS:e}
+poisson_ratio = {POISSON}
+density = 1000.0
+[[body]]
+name = "plane"
+kind = "rigid"
+generator = {{ shape = "plane", point = [0.0, 0.0, {floor}], normal = [0.0, 0.0, 1.0], size = 3.0 }}
+[[load]]
+body = "ball"
+force = [0.0, 0.0, -{load:e}]
+[[contact]]
+slave = "ball"
+master = "plane"
+"#,
+        mesh.display()
+    )
+}
+
+fn resolution_of(scene: &str) -> Vec<ContactResolution> {
+    let scene = Scene::parse(scene, "test.toml", Path::new(".")).expect("scene parses");
+    Model::from_scene(&scene)
+        .expect("model builds")
+        .contact_resolution()
+}
+
+fn only(mut r: Vec<ContactResolution>) -> ContactResolution {
+    assert_eq!(r.len(), 1, "{r:?}");
+    r.pop().unwrap()
+}
+
+#[test]
+fn coarse_tet_sphere_under_a_small_load_warns_with_the_hertz_numbers() {
+    // meshes/sphere_tet4.msh (gmsh, h = 0.15 m) with the load of the old convert skeleton.
+    let load = 4.0e5;
+    let r = only(resolution_of(&plane_scene(
+        &repo("meshes/sphere_tet4.msh"),
+        -1.0,
+        load,
+    )));
+    let (a, _) = hertz_sphere(load, 1.0, e_star_rigid(YOUNGS, POISSON));
+    let e = r.estimate.as_ref().expect("a sphere has an estimate");
+    assert_eq!(e.shape, ContactShape::Point);
+    assert!(
+        (e.radius / a - 1.0).abs() < 0.02,
+        "a {} against {a}",
+        e.radius
+    );
+    assert!(
+        (e.curvature_radius() - 1.0).abs() < 0.02,
+        "R {}",
+        e.curvature_radius()
+    );
+    assert!((e.load - load).abs() < 1e-6 * load);
+    // Surface spacing: √ of the median tributary area, 0.87 h² per node of a triangulation.
+    assert!(r.spacing > 0.12 && r.spacing < 0.15, "Δ {}", r.spacing);
+    let n = r.spacings.expect("spacings");
+    assert!((n - a / r.spacing).abs() < 0.02 * n && n < 1.0, "a/Δ {n}");
+    let w = r.warnings();
+    assert_eq!(w.len(), 1, "{w:?}");
+    let expect = format!(
+        "contact \"ball\"/\"plane\": expected contact radius ≈ 0.0655 m spans {n:.1} particle spacings (Δ = {:.3} m)",
+        r.spacing
+    );
+    assert!(w[0].starts_with(&expect), "{}\nexpected {expect}", w[0]);
+    assert!(
+        w[0].contains(&format!(
+            "refine the mesh near the contact to Δ ≤ {:.4} m",
+            a / 5.0
+        )),
+        "{}",
+        w[0]
+    );
+}
+
+#[test]
+fn resolved_tet_sphere_under_the_demo_load_does_not_warn() {
+    // meshes/sphere_tet4_h007.msh with the demo's load: a = 0.3 m, about 4.6 spacings.
+    let load = 3.84e7;
+    let r = only(resolution_of(&plane_scene(
+        &repo("meshes/sphere_tet4_h007.msh"),
+        -1.0,
+        load,
+    )));
+    let (a, _) = hertz_sphere(load, 1.0, e_star_rigid(YOUNGS, POISSON));
+    let e = r.estimate.as_ref().expect("estimate");
+    assert!(
+        (e.radius / a - 1.0).abs() < 0.02,
+        "a {} against {a}",
+        e.radius
+    );
+    assert!(r.spacings.unwrap() > 4.0, "{r:?}");
+    // gmsh-default tets: areas 1.7:1, surface 0.85 of the body's spacing.
+    assert!(r.area_ratio < 2.5, "{}", r.area_ratio);
+    assert!(r.warnings().is_empty(), "{:?}", r.warnings());
+}
+
+#[test]
+fn flat_block_on_a_plane_has_no_estimate_and_no_warning() {
+    let r = only(resolution_of(&plane_scene(
+        &repo("meshes/block_hex.msh"),
+        0.0,
+        1e5,
+    )));
+    assert!(r.estimate.is_none(), "{:?}", r.estimate);
+    assert!(r.spacings.is_none());
+    assert!((r.area_ratio - 1.0).abs() < 1e-9);
+    assert!(r.warnings().is_empty(), "{:?}", r.warnings());
+}
+
+#[test]
+fn validation_scenes_estimate_their_theory() {
+    // A quarter sphere cap (two symmetry planes through the contact), a plane-strain roller
+    // slice halved across its line, and a sphere on a deformable block (E* of two bodies).
+    for case in [
+        hertz_sphere_case(5.0),
+        hertz_roller_case(5.0),
+        sphere_on_block_case(
+            0.15,
+            0.03,
+            3.0,
+            "kind = \"adr\"",
+            "method = \"point-to-surface\"",
+            0.0,
+            "block",
+        ),
+    ] {
+        let r = only(resolution_of(&case.scene));
+        let e = r.estimate.as_ref().expect("estimate");
+        let (shape, a) = match &case.reference {
+            Reference::Sphere {
+                load,
+                radius,
+                e_stars,
+            } => (
+                ContactShape::Point,
+                hertz_sphere(*load, *radius, e_stars[0].1).0,
+            ),
+            Reference::Roller {
+                load_per_length,
+                radius,
+                e_stars,
+            } => (
+                ContactShape::Line,
+                hertz_cylinder(*load_per_length, *radius, e_stars[0].1).0,
+            ),
+            Reference::Punch { .. } => unreachable!(),
+        };
+        assert_eq!(e.shape, shape, "{}", case.label);
+        assert!(
+            (e.radius / a - 1.0).abs() < 0.05,
+            "{}: a {} against {a}",
+            case.label,
+            e.radius
+        );
+        // a/Δ = 5 on even layers: no warning.
+        assert!((r.spacings.unwrap() - 5.0).abs() < 0.5, "{r:?}");
+        assert!(r.warnings().is_empty(), "{:?}", r.warnings());
+    }
+    // A flat punch on a flat block: no Hertz contact, nothing said.
+    let r = only(resolution_of(&hertz_punch_case(8.0).scene));
+    assert!(r.estimate.is_none() && r.warnings().is_empty(), "{r:?}");
+}
+
+fn exe() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+}
+
+#[test]
+fn convert_chooses_a_resolved_load_or_says_how_fine_a_mesh_it_needs() {
+    let dir = temp_dir("convert");
+    let out = exe()
+        .args(["convert", "--json", "-o"])
+        .arg(&dir)
+        .arg(repo("meshes/sphere_tet4.msh"))
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    // a = 5Δ would take a = 0.68 m on R = 1 m: the load stops at a/R = 0.15 and says so.
+    let w = s["warnings"].as_array().expect("warnings");
+    assert_eq!(w.len(), 1, "{w:?}");
+    let w = w[0].as_str().unwrap();
+    assert!(
+        w.contains("expected contact radius ≈ 0.150 m")
+            && w.contains("refine the mesh near the contact to Δ ≤ 0.0300 m"),
+        "{w}"
+    );
+    let e = &s["contact_estimates"][0]["estimate"];
+    let load = e["load"].as_f64().unwrap();
+    let (a, _) = hertz_sphere(load, 1.0, e_star_rigid(YOUNGS, POISSON));
+    assert!((a - 0.15).abs() < 1e-3, "load {load}: a {a}");
+    let toml = std::fs::read_to_string(dir.join("case.toml")).expect("case.toml");
+    assert!(
+        toml.contains(&format!("force = [0.0, 0.0, {:e}]", -load)),
+        "{toml}"
+    );
+    // The case runs as written and its run says the same of the contact.
+    let scene = Scene::load(&dir.join("case.toml")).expect("case.toml loads");
+    let r = only(Model::from_scene(&scene).unwrap().contact_resolution());
+    assert!((r.estimate.unwrap().radius - 0.15).abs() < 1e-3);
+
+    // A flat block keeps the strain load and says nothing.
+    let out = exe()
+        .args(["convert", "--json", "-o"])
+        .arg(dir.join("block"))
+        .arg(repo("meshes/block_hex.msh"))
+        .output()
+        .expect("runs");
+    let s: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(s["warnings"], serde_json::json!([]));
+    assert!(s["contact_estimates"][0]["estimate"].is_null());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn run_prints_the_warning_and_writes_it_in_the_summary() {
+    let dir = temp_dir("run");
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        plane_scene(&repo("meshes/sphere_tet4.msh"), -1.0, 4.0e5),
+    )
+    .unwrap();
+    let out = exe().arg("run").arg(&scene).output().expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let line = "warning: contact \"ball\"/\"plane\": expected contact radius ≈ 0.0655 m";
+    assert!(stderr.contains(line), "{stderr}");
+    let text = std::fs::read_to_string(dir.join("out/summary.json")).expect("summary");
+    let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let w = s["warnings"][0].as_str().expect("a warning");
+    assert!(w.starts_with(&line["warning: ".len()..]), "{w}");
+    assert!(s["contact_estimates"][0]["spacings"].as_f64().unwrap() < 1.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
