@@ -377,7 +377,7 @@ every = 500               # write a .vtu every N iterations (and the last one)
 name = "part"
 mesh = "{mesh_ref}"
 kind = "deformable"       # a PD body: particles, bonds, surface
-spacing = {spacing:e}     # grid spacing Δ (median element edge of the mesh)
+spacing = {spacing:e}     # grid spacing Δ (lattice spacing of the particles' median volume)
 horizon_factor = {m}      # horizon δ = m Δ
 # translate = [0.0, 0.0, 0.0]
 # rotate = {{ axis = [0.0, 0.0, 1.0], angle_deg = 0.0 }}

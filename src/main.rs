@@ -43,7 +43,7 @@ enum Command {
         /// Output folder.
         #[arg(short, long)]
         output: PathBuf,
-        /// Grid spacing Δ (default: the median element edge).
+        /// Grid spacing Δ (default: the lattice spacing of the particles' median volume).
         #[arg(long)]
         spacing: Option<f64>,
         /// Horizon factor m (δ = m·Δ).
@@ -140,7 +140,8 @@ enum Command {
         /// surface detection, correction, VTU writing), with throughput and peak memory.
         #[arg(long, value_name = "MESH")]
         pipeline: Option<PathBuf>,
-        /// With --pipeline: grid spacing Δ (default: the median element edge).
+        /// With --pipeline: grid spacing Δ (default: the lattice spacing of the particles' median
+        /// volume).
         #[arg(long)]
         spacing: Option<f64>,
         /// Horizon factor m (δ = m·Δ) [default: 3.0002 on the lattice, which keeps bonds of

@@ -184,6 +184,7 @@ fn validation_scenes_estimate_their_theory() {
                 load_per_length,
                 radius,
                 e_stars,
+                ..
             } => (
                 ContactShape::Line,
                 hertz_cylinder(*load_per_length, *radius, e_stars[0].1).0,

@@ -243,7 +243,7 @@ def main(argv):
             bad.append(f"{o['name']}: not conforming ({o['duplicates']} duplicate nodes, "
                        f"{o['over_faces']} faces in > 2 elements, {o['free_inside']} free faces inside)")
     print()
-    print("Δ: median edge counted once per element (pdcontact's default grid spacing); "
+    print("Δ: median edge counted once per element (pdcontact's default grid spacing is the lattice spacing of the particles' median volume, not this); "
           "edge min/median/max: over unique edges.")
     print()
     print("| mesh | size (bytes) | physical groups | free faces (all on the boundary) | duplicate nodes | south pole: node offset, surface edges, inward edges (m) | first node layer: depth min / max (m) | gmsh min SICN / min det J |")

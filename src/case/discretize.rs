@@ -65,7 +65,8 @@ impl Discretization {
     }
 }
 
-/// Turns a mesh into particles. `spacing` overrides the median element edge.
+/// Turns a mesh into particles. `spacing` overrides the default (the lattice spacing of the
+/// particles' median volume).
 ///
 /// Errors: a mesh without 3D elements, an element with zero or negative volume (named by its
 /// id), or a non-positive spacing.

@@ -160,7 +160,7 @@ impl Ghosts {
 /// Options of the discretisation.
 #[derive(Clone, Debug)]
 pub struct CaseOptions {
-    /// Grid spacing Δ; `None` takes the median element edge.
+    /// Grid spacing Δ; `None` takes the lattice spacing of the particles' median volume.
     pub spacing: Option<f64>,
     /// Horizon factor m.
     pub horizon_factor: f64,
@@ -271,7 +271,7 @@ impl PdCase {
             .count();
         if particles.len() > 1 && 2 * lonely > particles.len() {
             return Err(Error::input(format!(
-                "{lonely} of {} particles have no bond: the horizon δ = {:.4e} (spacing {spacing:.4e} × horizon factor {}) is shorter than the distance between the mesh's nodes; give a spacing near the mesh's element size, or none to use its median edge",
+                "{lonely} of {} particles have no bond: the horizon δ = {:.4e} (spacing {spacing:.4e} × horizon factor {}) is shorter than the distance between the mesh's nodes; give a spacing near the mesh's element size, or none to use the lattice spacing of its particles' median volume",
                 particles.len(),
                 horizon,
                 options.horizon_factor

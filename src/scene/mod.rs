@@ -174,7 +174,8 @@ pub struct BodySpec {
     pub scale: Option<f64>,
     pub rotate: Option<RotateSpec>,
     pub translate: Option<[f64; 3]>,
-    /// Grid spacing Δ (default: median element edge).
+    /// Grid spacing Δ (default: a generator's cell size; for a mesh, the lattice spacing of the
+    /// particles' median volume).
     pub spacing: Option<f64>,
     /// Horizon factor m (default 3).
     pub horizon_factor: Option<f64>,
