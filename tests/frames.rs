@@ -167,7 +167,45 @@ fn adr_frames_at_the_load_factors_with_named_blocks() {
         }
     }
     check_vtk(&out);
+    view_focus(&out);
     let _ = std::fs::remove_dir_all(out.parent().expect("dir"));
+}
+
+/// `view.py` beside `run.pvd` names the pair and, without ParaView (`--focus`, Python's vtk),
+/// aims at the contact: the bottom face pressed onto the floor at z = −0.01, normal −z.
+fn view_focus(out: &Path) {
+    let script = out.join("view.py");
+    let text = std::fs::read_to_string(&script).expect("view.py");
+    assert!(text.contains("PAIRS = [(\"block\", \"floor\")]"), "{text}");
+    assert!(text.contains("DEFORMABLE = [\"block\"]"), "{text}");
+    let has_vtk = Command::new("python3")
+        .args(["-c", "import vtk"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if !has_vtk {
+        eprintln!("python3 with vtk not found: view.py --focus skipped");
+        return;
+    }
+    let run = Command::new("python3")
+        .arg(&script)
+        .arg("--focus")
+        .current_dir(std::env::temp_dir())
+        .output()
+        .expect("python3 runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let r: serde_json::Value = serde_json::from_slice(&run.stdout).expect("JSON");
+    assert_eq!(r["masters"], serde_json::json!(["floor"]));
+    assert_eq!(r["slaves"], serde_json::json!(["block"]));
+    assert!(r["loaded"].as_u64().expect("count") > 0, "{r}");
+    let z = r["centre"][2].as_f64().expect("z");
+    assert!((z + 0.01).abs() < 0.005, "{r}");
+    assert!(r["normal"][2].as_f64().expect("nz") < -0.99, "{r}");
+    // The camera looks up at the contact through the floor.
+    assert!(r["position"][2].as_f64().expect("z") < z, "{r}");
 }
 
 /// Explicit: the timesteps are the times, as each frame's field data `time` says.

@@ -8,7 +8,9 @@
 //! positions and `displacement` moves them to the deformed ones (ParaView's Warp By Vector at
 //! scale 1). One `run.pvd` lists the frames as a time series: explicit runs at their time (s),
 //! ADR runs at the load factor (see [`FrameWriter`]). The `.pvd` is rewritten after each
-//! frame, so an interrupted run still leaves a collection ParaView opens.
+//! frame, so an interrupted run still leaves a collection ParaView opens. With the first frame,
+//! `view.py` is written beside it: a pvpython script showing the last frame, the slaves'
+//! surfaces coloured by `contact_pressure`, the masters translucent, the camera on the contact.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -21,13 +23,43 @@ use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::model::Model;
 use crate::output::analysis::contact_pressure;
+use std::io::Write;
+
 use crate::output::vtk::{
-    write_vtm, write_vtu_with_field_data, BlockNode, CellSpec, Field, PvdCollection,
+    write_atomically, write_vtm, write_vtu_with_field_data, BlockNode, CellSpec, Field,
+    PvdCollection,
 };
 use crate::solver::Monitor;
 
 /// Name of the collection file.
 pub const PVD_NAME: &str = "run.pvd";
+
+/// Name of the ParaView script written beside it.
+pub const VIEW_NAME: &str = "view.py";
+
+/// The script, before the run's bodies are filled in.
+const VIEW_TEMPLATE: &str = include_str!("view.py");
+
+/// `view.py` for `model`: the template with its contact pairs and deformable bodies.
+fn view_script(model: &Model) -> String {
+    let name = |k: usize| serde_json::to_string(model.bodies[k].name()).unwrap_or_default();
+    let pairs: Vec<String> = model
+        .contact_pairs()
+        .into_iter()
+        .map(|(s, m)| format!("({}, {})", name(s), name(m)))
+        .collect();
+    let deformable: Vec<String> = (0..model.bodies.len())
+        .filter(|&k| model.bodies[k].as_pd().is_some())
+        .map(name)
+        .collect();
+    VIEW_TEMPLATE
+        .replacen("PAIRS = []", &format!("PAIRS = [{}]", pairs.join(", ")), 1)
+        .replacen(
+            "DEFORMABLE = []",
+            &format!("DEFORMABLE = [{}]", deformable.join(", ")),
+            1,
+        )
+}
 
 /// Six or more digits.
 fn is_step(d: &str) -> bool {
@@ -283,6 +315,11 @@ impl FrameWriter {
                     blocks.push(BlockNode::DataSet(b.name().to_string(), file));
                 }
             }
+        }
+        if self.entries.is_empty() {
+            let view = self.folder.join(VIEW_NAME);
+            let script = view_script(model);
+            write_atomically(&view, |w| w.write_all(script.as_bytes()))?;
         }
         let vtm = format!("{dir_name}.vtm");
         write_vtm(&self.folder.join(&vtm), &blocks)?;
