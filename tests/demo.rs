@@ -74,8 +74,19 @@ fn demo_converges_balances_and_loads_in_vtk() {
     ]) {
         assert_eq!(r["loaded_not_facing"], 0);
         assert!(r["loaded"].as_u64().expect("count") > 10);
-        // Loaded particles sit on the plane (within the penetration).
+        // Loaded particles, at their points + displacement, sit on the plane (within the
+        // penetration; their reference positions are 5 cm above it).
         assert!(r["max_height_of_loaded"].as_f64().expect("height").abs() < 0.01);
+        // Named blocks; the surface carries the pressure on its own nodes.
+        assert_eq!(
+            r["blocks"],
+            serde_json::json!(["ball/particles", "ball/surface", "plane"])
+        );
+        assert_eq!(r["surface_loaded"], r["loaded"]);
+        assert_eq!(r["plane_offset"], 0.0);
+        // ADR, the full load at once: timesteps are the relaxation's progress, ending at 1.
+        assert_eq!(r["load_factor"], 1.0);
+        assert_eq!(r["last_timestep"], 1.0);
     }
 }
 

@@ -40,9 +40,9 @@ generator = {{ shape = "plane", point = [0.0, 0.0, -0.01], normal = [0.0, 0.0, 1
 
 const CONTACT: &str = "[[contact]]\nslave = \"block\"\nmaster = \"floor\"\n";
 
-/// Files listed by a `.pvd` (it must be complete XML).
-fn pvd_files(pvd: &Path) -> Vec<String> {
-    let text = std::fs::read_to_string(pvd).expect("run.pvd");
+/// Files listed by a `.pvd` or a `.vtm` (it must be complete XML).
+fn listed_files(file: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(file).unwrap_or_else(|e| panic!("{file:?}: {e}"));
     assert!(text.starts_with("<?xml"), "{text}");
     assert!(
         text.trim_end().ends_with("</VTKFile>"),
@@ -54,14 +54,20 @@ fn pvd_files(pvd: &Path) -> Vec<String> {
         .collect()
 }
 
-/// Every listed frame exists and is a complete VTK XML file; no temporary file is left.
+/// Every listed frame (`frame_NNNNNN.vtm`) and every dataset it lists exists and is a
+/// complete VTK XML file; nothing else is left (no temporary file, no unlisted frame).
 fn check_frames(dir: &Path) -> Vec<String> {
     let files = if dir.join("run.pvd").exists() {
-        pvd_files(&dir.join("run.pvd"))
+        listed_files(&dir.join("run.pvd"))
     } else {
         Vec::new()
     };
+    let mut datasets = Vec::new();
     for f in &files {
+        assert!(f.starts_with("frame_") && f.ends_with(".vtm"), "{f}");
+        datasets.extend(listed_files(&dir.join(f)));
+    }
+    for f in &datasets {
         let text = std::fs::read(dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
         let text = String::from_utf8_lossy(&text);
         assert!(
@@ -73,8 +79,25 @@ fn check_frames(dir: &Path) -> Vec<String> {
     for entry in std::fs::read_dir(dir).expect("folder").flatten() {
         let name = entry.file_name().to_string_lossy().into_owned();
         assert!(!name.ends_with(".partial"), "temporary file left: {name}");
-        if name.ends_with(".vtu") {
+        assert!(!name.ends_with(".vtu"), "flat frame file: {name}");
+        if name.ends_with(".vtm") {
             assert!(files.contains(&name), "{name} is not listed in run.pvd");
+        }
+        if entry.path().is_dir() {
+            assert!(
+                files.contains(&format!("{name}.vtm")),
+                "{name}/ is not a listed frame"
+            );
+            for inner in std::fs::read_dir(entry.path())
+                .expect("frame folder")
+                .flatten()
+            {
+                let inner = format!("{name}/{}", inner.file_name().to_string_lossy());
+                assert!(
+                    datasets.contains(&inner),
+                    "{inner} is not listed in a frame"
+                );
+            }
         }
     }
     files
@@ -136,16 +159,11 @@ fn step_in(message: &str, word: &str) -> usize {
         .unwrap_or_else(|| panic!("no number after {word} in {message}"))
 }
 
-/// Frames `particles_NNNNNN.vtu` listed, as step numbers.
+/// Frames `frame_NNNNNN.vtm` listed, as step numbers.
 fn particle_steps(frames: &[String]) -> Vec<usize> {
     frames
         .iter()
-        .filter_map(|f| {
-            f.strip_prefix("particles_")?
-                .strip_suffix(".vtu")?
-                .parse()
-                .ok()
-        })
+        .filter_map(|f| f.strip_prefix("frame_")?.strip_suffix(".vtm")?.parse().ok())
         .collect()
 }
 
@@ -201,7 +219,7 @@ fn energy_growth_keeps_the_last_good_frame() {
     assert!(f.summary["outputs"]["last_frame"]
         .as_str()
         .expect("last_frame")
-        .ends_with(&format!("particles_{last:06}.vtu")));
+        .ends_with(&format!("frame_{last:06}.vtm")));
 }
 
 /// Twice the stable step: fast growth, caught the step it explodes.

@@ -8,10 +8,14 @@
 fields `convert` documents.
 
 `run`: run.pvd is parsed with VTK's XML parser (vtkXMLDataParser; plain VTK has no .pvd
-reader, ParaView's pvpython does and is used when present), every file it lists loads, the last
-particles frame holds every documented field, and `contact_pressure` is positive only on
-particles that face the rigid plane (outward normal against the plane normal) and sit within a
-spacing of it.
+reader, ParaView's pvpython does and is used when present), its timesteps increase, every
+frame it lists (a .vtm) loads with vtkXMLMultiBlockDataReader with every block named
+(`<body>/particles`, `<body>/surface`, rigid bodies by their name), each frame holds the field
+data `load_factor` (ADR; timesteps in (0, 1]) or `time` (explicit; equal to the timestep), the
+particles hold every documented field, each surface block holds only the nodes its cells use,
+each a particle with the particle's values, and `contact_pressure` is positive only on
+particles that face the rigid plane (outward normal against the plane normal) and whose
+deformed positions (points + displacement) lie on it.
 
 Prints a JSON report; exits 1 when a check fails, 2 when VTK is missing.
 """
@@ -96,23 +100,124 @@ def check_pvpython(path):
     return int(out.stdout.strip().splitlines()[-1])
 
 
+def read_vtm(path):
+    """A frame: {block path: unstructured grid}, e.g. {"ball/particles": ..., "plane": ...}."""
+    r = vtk.vtkXMLMultiBlockDataReader()
+    r.SetFileName(path)
+    r.Update()
+    if r.GetErrorCode() != 0:
+        raise RuntimeError(f"{path}: VTK reader error code {r.GetErrorCode()}")
+    out = {}
+
+    def walk(mb, prefix):
+        for k in range(mb.GetNumberOfBlocks()):
+            meta = mb.GetMetaData(k) if mb.HasMetaData(k) else None
+            name = meta.Get(vtk.vtkCompositeDataSet.NAME()) if meta is not None else None
+            if not name:
+                raise RuntimeError(f"{path}: block {prefix}{k} has no name")
+            b = mb.GetBlock(k)
+            if b is None:
+                raise RuntimeError(f"{path}: block {prefix}{name} did not load")
+            if b.IsA("vtkMultiBlockDataSet"):
+                walk(b, prefix + name + "/")
+            else:
+                if b.GetNumberOfPoints() == 0:
+                    raise RuntimeError(f"{path}: block {prefix}{name} has no points")
+                out[prefix + name] = b
+
+    walk(r.GetOutput(), "")
+    return out
+
+
+def field_value(g, name):
+    a = g.GetFieldData().GetArray(name)
+    return None if a is None else float(a.GetValue(0))
+
+
+def deformed(g):
+    """Points + displacement: the deformed positions (the points are the reference)."""
+    pos = vtk_to_numpy(g.GetPoints().GetData()).astype(float)
+    d = g.GetPointData().GetArray("displacement")
+    if d is None:
+        raise RuntimeError("a block without point data `displacement`")
+    return pos + vtk_to_numpy(d)
+
+
+def check_surface(name, s, p):
+    """The surface block: only the nodes its cells use, the particles' values there."""
+    used = set()
+    for c in range(s.GetNumberOfCells()):
+        ids = s.GetCell(c).GetPointIds()
+        used.update(ids.GetId(j) for j in range(ids.GetNumberOfIds()))
+    if len(used) != s.GetNumberOfPoints():
+        raise RuntimeError(f"{name}/surface: {s.GetNumberOfPoints()} points, its cells use {len(used)}")
+    require(fields(s.GetPointData()), {"displacement": 3, "velocity": 3, "force": 3, "contact_force": 3,
+                                       "contact_pressure": 1, "surface": 1, "normal": 3}, f"{name}/surface")
+    # Each surface node is a particle: same reference position, same values.
+    ppos = vtk_to_numpy(p.GetPoints().GetData()).astype(float)
+    spos = vtk_to_numpy(s.GetPoints().GetData()).astype(float)
+    loc = vtk.vtkPointLocator()
+    loc.SetDataSet(p)
+    loc.BuildLocator()
+    idx = np.array([loc.FindClosestPoint(x) for x in spos])
+    gap = float(np.abs(ppos[idx] - spos).max())
+    if gap > 1e-9 * max(1.0, float(np.abs(ppos).max())):
+        raise RuntimeError(f"{name}/surface: a node is {gap:.3e} from every particle")
+    for f in ("contact_pressure", "displacement"):
+        a = vtk_to_numpy(s.GetPointData().GetArray(f))
+        b = vtk_to_numpy(p.GetPointData().GetArray(f))[idx]
+        if not np.array_equal(a, b):
+            raise RuntimeError(f"{name}/surface: `{f}` differs from the particles'")
+    return int(len(used))
+
+
 def check_run(folder, normal, point):
     pvd = os.path.join(folder, "run.pvd")
     entries = pvd_entries(pvd)
-    for _, _, f in entries:
-        read_vtu(os.path.join(folder, f))
-    frames = [e for e in entries if e[1] == 0]
-    last = frames[-1][2]
-    g = read_vtu(os.path.join(folder, last))
-    pd = g.GetPointData()
-    require(fields(pd), {"displacement": 3, "velocity": 3, "force": 3, "contact_force": 3,
-                         "contact_pressure": 1, "surface": 1, "normal": 3, "body": 1}, last)
-    pressure = vtk_to_numpy(pd.GetArray("contact_pressure"))
-    nrm = vtk_to_numpy(pd.GetArray("normal"))
-    pos = vtk_to_numpy(g.GetPoints().GetData())
-    loaded = pressure > 0
+    times = [t for t, _, _ in entries]
+    if any(b <= a for a, b in zip(times, times[1:])):
+        raise RuntimeError(f"{pvd}: timesteps not increasing: {times}")
+    frames = [read_vtm(os.path.join(folder, f)) for _, _, f in entries]
+    last = entries[-1][2]
+    blocks = frames[-1]
+    bodies = sorted({k.split("/")[0] for k in blocks if k.endswith("/particles")})
+    if not bodies:
+        raise RuntimeError(f"{last}: no `<body>/particles` block (blocks {sorted(blocks)})")
     report = {"pvd_entries": len(entries), "frames": len(frames), "last": last,
-              "particles": int(g.GetNumberOfPoints()), "loaded": int(loaded.sum())}
+              "blocks": sorted(blocks), "first_timestep": times[0], "last_timestep": times[-1]}
+    g0 = next(iter(blocks.values()))
+    lf, t = field_value(g0, "load_factor"), field_value(g0, "time")
+    if lf is None and t is None:
+        raise RuntimeError(f"{last}: no field data `load_factor` or `time`")
+    report["load_factor"] = lf
+    report["time"] = t
+    if t is not None and abs(t - times[-1]) > 1e-9 * max(1.0, abs(t)):
+        raise RuntimeError(f"{last}: field data time {t} but .pvd timestep {times[-1]}")
+    if lf is not None and not 0.0 < times[-1] <= 1.0 + 1e-12:
+        raise RuntimeError(f"{pvd}: ADR timestep {times[-1]} outside (0, 1]")
+    pos, pressure, nrm, count, surface_points = [], [], [], 0, 0
+    for b in bodies:
+        g = blocks[f"{b}/particles"]
+        pd = g.GetPointData()
+        require(fields(pd), {"displacement": 3, "velocity": 3, "force": 3, "contact_force": 3,
+                             "contact_pressure": 1, "surface": 1, "normal": 3, "body": 1}, f"{last}: {b}/particles")
+        if f"{b}/surface" not in blocks:
+            raise RuntimeError(f"{last}: no block {b}/surface")
+        surface_points += check_surface(b, blocks[f"{b}/surface"], g)
+        s = blocks[f"{b}/surface"]
+        sp = vtk_to_numpy(s.GetPointData().GetArray("contact_pressure"))
+        count += int((sp > 0).sum())
+        pos.append(deformed(g))
+        pressure.append(vtk_to_numpy(pd.GetArray("contact_pressure")))
+        nrm.append(vtk_to_numpy(pd.GetArray("normal")))
+    pos, pressure, nrm = np.concatenate(pos), np.concatenate(pressure), np.concatenate(nrm)
+    loaded = pressure > 0
+    report.update({"particles": int(len(pos)), "loaded": int(loaded.sum()),
+                   "surface_points": surface_points, "surface_loaded": count})
+    if loaded.any() and count != int(loaded.sum()):
+        raise RuntimeError(f"{last}: {int(loaded.sum())} loaded particles but {count} loaded surface nodes")
+    rigid = [k for k in blocks if "/" not in k]
+    report["rigid_blocks"] = rigid
     if normal is not None:
         n = np.array(normal, float)
         n /= np.linalg.norm(n)
@@ -121,7 +226,10 @@ def check_run(folder, normal, point):
         report["loaded_not_facing"] = int(bad.sum())
         if point is not None:
             height = (pos - np.array(point, float)) @ n
-            report["max_height_of_loaded"] = float(height[loaded].max()) if loaded.any() else 0.0
+            report["max_height_of_loaded"] = float(np.abs(height[loaded]).max()) if loaded.any() else 0.0
+            # The rigid plane, deformed (points + displacement), through `point`.
+            report["plane_offset"] = max((float(np.abs((deformed(blocks[k]) - np.array(point, float)) @ n).max())
+                                          for k in rigid), default=None)
         if not loaded.any():
             raise RuntimeError(f"{last}: no particle carries contact pressure")
         if bad.any():

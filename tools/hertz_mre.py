@@ -3,8 +3,8 @@
 
     python3 tools/hertz_mre.py RUN_DIR --load P --radius R --youngs E --poisson NU [--centre X,Y]
 
-Reads the last particles_*.vtu listed in RUN_DIR/run.pvd with VTK's own reader (pip install
-vtk) and prints the mean relative error of METHOD.md section 7: the mean of |p_i - p(r_i)| / p0
+Reads the `<body>/particles` blocks of the last frame (frame_*.vtm) listed in RUN_DIR/run.pvd
+with VTK's own reader (pip install vtk) and prints the mean relative error of METHOD.md section 7: the mean of |p_i - p(r_i)| / p0
 over the surface particles that face the contact (outward normal against the contact force)
 and lie within r_i <= 0.8 a of the contact centre, loaded or not, with r measured in the
 reference configuration. --centre gives the centre in the plane (default 0,0: a model cut by
@@ -34,19 +34,29 @@ def main():
         sys.exit("needs Python's vtk and numpy: pip install vtk")
 
     pvd = (args.run_dir / "run.pvd").read_text()
-    frames = re.findall(r'file="(particles_[0-9]+\.vtu)"', pvd)
+    frames = re.findall(r'file="(frame_[0-9]+\.vtm)"', pvd)
     if not frames:
-        sys.exit(f"{args.run_dir}/run.pvd lists no particle frames")
-    reader = vtk.vtkXMLUnstructuredGridReader()
+        sys.exit(f"{args.run_dir}/run.pvd lists no frames")
+    reader = vtk.vtkXMLMultiBlockDataReader()
     reader.SetFileName(str(args.run_dir / frames[-1]))
     reader.Update()
-    grid = reader.GetOutput()
-    data = grid.GetPointData()
+    # Every deformable body's particles block ("<body>/particles"), one after another.
+    grids = []
+    root = reader.GetOutput()
+    for k in range(root.GetNumberOfBlocks()):
+        body = root.GetBlock(k)
+        if body is not None and body.IsA("vtkMultiBlockDataSet"):
+            for j in range(body.GetNumberOfBlocks()):
+                if body.GetMetaData(j).Get(vtk.vtkCompositeDataSet.NAME()) == "particles":
+                    grids.append(body.GetBlock(j))
+    if not grids:
+        sys.exit(f"{frames[-1]} has no particles block")
 
     def field(name):
-        return vtk_to_numpy(data.GetArray(name))
+        return np.concatenate([vtk_to_numpy(g.GetPointData().GetArray(name)) for g in grids])
 
-    x = vtk_to_numpy(grid.GetPoints().GetData()) - field("displacement")
+    # Points are the reference positions (displacement moves them to the deformed ones).
+    x = np.concatenate([vtk_to_numpy(g.GetPoints().GetData()) for g in grids]).astype(float)
     p = field("contact_pressure")
     normal = field("normal")
     surface = field("surface") > 0

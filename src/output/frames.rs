@@ -1,12 +1,16 @@
 //! Frames of a run for ParaView, and progress on stderr.
 //!
-//! Every `every` steps (and at the last) two files are written: `particles_NNNNNN.vtu` with the
-//! particles of all deformable bodies (point data `displacement`, `velocity`, `force`,
-//! `contact_force`, `contact_pressure` in Pa per undeformed tributary area, `surface`,
-//! `normal`, `body`, `volume`) and `segments_NNNNNN.vtu` with the deformed master segments of
-//! every body and the rigid faces (cell data `body`). One `run.pvd` lists them as a time
-//! series with two parts (ADR: pseudo-time = iteration). The `.pvd` is rewritten after each
-//! frame, so an interrupted run still leaves a collection ParaView opens.
+//! Every `every` steps (and at the last, and in ADR at the end of every load increment) a frame
+//! is written: `frame_NNNNNN.vtm`, a multiblock whose blocks are named after the bodies, and
+//! its datasets in the folder `frame_NNNNNN/`: per deformable body `<body>/particles` (one
+//! vertex per particle) and `<body>/surface` (its master segments on their own nodes, with
+//! the particles' point data), per rigid body `<body>` (its faces). Points are reference
+//! positions and `displacement` moves them to the deformed ones (ParaView's Warp By Vector at
+//! scale 1). One `run.pvd` lists the frames as a time series: explicit runs at their time (s),
+//! ADR runs at the load factor (see [`FrameWriter`]). The `.pvd` is rewritten after each
+//! frame, so an interrupted run still leaves a collection ParaView opens. With the first frame,
+//! `view.py` is written beside it: a pvpython script showing the last frame, the slaves'
+//! surfaces coloured by `contact_pressure`, the masters translucent, the camera on the contact.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -19,36 +23,122 @@ use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::model::Model;
 use crate::output::analysis::contact_pressure;
-use crate::output::vtk::{write_vtu, CellSpec, Field, PvdCollection};
+use std::io::Write;
+
+use crate::output::vtk::{
+    write_atomically, write_vtm, write_vtu_with_field_data, BlockNode, CellSpec, Field,
+    PvdCollection,
+};
 use crate::solver::Monitor;
 
 /// Name of the collection file.
 pub const PVD_NAME: &str = "run.pvd";
 
-/// A frame file this writer makes: `particles_` or `segments_`, six or more digits, `.vtu`.
+/// Name of the ParaView script written beside it.
+pub const VIEW_NAME: &str = "view.py";
+
+/// The script, before the run's bodies are filled in.
+const VIEW_TEMPLATE: &str = include_str!("view.py");
+
+/// `view.py` for `model`: the template with its contact pairs and deformable bodies.
+fn view_script(model: &Model) -> String {
+    let name = |k: usize| serde_json::to_string(model.bodies[k].name()).unwrap_or_default();
+    let pairs: Vec<String> = model
+        .contact_pairs()
+        .into_iter()
+        .map(|(s, m)| format!("({}, {})", name(s), name(m)))
+        .collect();
+    let deformable: Vec<String> = (0..model.bodies.len())
+        .filter(|&k| model.bodies[k].as_pd().is_some())
+        .map(name)
+        .collect();
+    VIEW_TEMPLATE
+        .replacen("PAIRS = []", &format!("PAIRS = [{}]", pairs.join(", ")), 1)
+        .replacen(
+            "DEFORMABLE = []",
+            &format!("DEFORMABLE = [{}]", deformable.join(", ")),
+            1,
+        )
+}
+
+/// Six or more digits.
+fn is_step(d: &str) -> bool {
+    d.len() >= 6 && d.bytes().all(|b| b.is_ascii_digit())
+}
+
+/// A frame file or folder this writer makes (`frame_NNNNNN.vtm`, `frame_NNNNNN/`), or one of
+/// the flat frames earlier versions wrote (`particles_NNNNNN.vtu`, `segments_NNNNNN.vtu`).
 fn is_frame_name(name: &str) -> bool {
+    if let Some(d) = name.strip_prefix("frame_") {
+        return is_step(d.strip_suffix(".vtm").unwrap_or(d));
+    }
     let Some(stem) = name.strip_suffix(".vtu") else {
         return false;
     };
     let digits = stem
         .strip_prefix("particles_")
         .or_else(|| stem.strip_prefix("segments_"));
-    digits.is_some_and(|d| d.len() >= 6 && d.bytes().all(|b| b.is_ascii_digit()))
+    digits.is_some_and(is_step)
+}
+
+/// A body name as a file name: letters, digits, `-`, `_` and `.` kept, the rest `_`.
+fn file_stem(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() || s.starts_with('.') {
+        format!("body{s}")
+    } else {
+        s
+    }
+}
+
+/// One frame listed in the `.pvd`.
+#[derive(Clone, Debug)]
+struct Entry {
+    step: usize,
+    time: f64,
+    file: String,
+    /// ADR: the load factor before this frame's increment, the increment's own, the increment's
+    /// first iteration (the last of the one before) and, once it is over, its last iteration.
+    lo: f64,
+    hi: f64,
+    start: usize,
+    end: Option<usize>,
 }
 
 /// Writes the frames of a run.
+///
+/// ADR has no time: a frame's `.pvd` timestep is the load factor, interpolated by iteration
+/// within a load increment. Increment `k` of `K` applies the load factor `k/K`; a frame at
+/// iteration `i` of an increment that began after iteration `s` and ended at iteration `e` is
+/// at `(k−1)/K + (i−s)/(e−s)/K`, so the equilibrium that ends increment `k` is at `k/K`
+/// exactly, and with one increment (the default: the full load at once) the timestep is the
+/// relaxation's progress `i/e`. Until an increment is over, `e` is its latest frame.
 pub struct FrameWriter {
     folder: PathBuf,
     every: usize,
-    pvd: PvdCollection,
-    frames: usize,
+    /// ADR (pseudo-time = load factor) or explicit (time in s).
+    pub(crate) adr: bool,
+    entries: Vec<Entry>,
+    lo: f64,
+    hi: f64,
+    start: usize,
     last_written: Option<usize>,
 }
 
 impl FrameWriter {
     /// A writer into `folder` (created if missing). Frames of an earlier run in the folder
-    /// (`particles_NNNNNN.vtu`, `segments_NNNNNN.vtu`) are removed, so that the folder never
-    /// mixes two runs; other files are left alone.
+    /// (`frame_NNNNNN.vtm` and `frame_NNNNNN/`, and the flat `particles_NNNNNN.vtu`,
+    /// `segments_NNNNNN.vtu` of earlier versions) are removed, so that the folder never mixes
+    /// two runs; other files are left alone.
     pub fn new(folder: &Path, every: usize) -> Result<FrameWriter> {
         std::fs::create_dir_all(folder).map_err(|e| Error::output(folder, e))?;
         let entries = std::fs::read_dir(folder).map_err(|e| Error::output(folder, e))?;
@@ -57,14 +147,22 @@ impl FrameWriter {
             let Some(name) = name.to_str() else { continue };
             if is_frame_name(name) {
                 let path = entry.path();
-                std::fs::remove_file(&path).map_err(|e| Error::output(&path, e))?;
+                let removed = if path.is_dir() {
+                    std::fs::remove_dir_all(&path)
+                } else {
+                    std::fs::remove_file(&path)
+                };
+                removed.map_err(|e| Error::output(&path, e))?;
             }
         }
         Ok(FrameWriter {
             folder: folder.to_path_buf(),
             every: every.max(1),
-            pvd: PvdCollection::default(),
-            frames: 0,
+            adr: false,
+            entries: Vec::new(),
+            lo: 0.0,
+            hi: 1.0,
+            start: 0,
             last_written: None,
         })
     }
@@ -74,95 +172,182 @@ impl FrameWriter {
         self.folder.join(PVD_NAME)
     }
 
-    /// Path of the last particles frame written.
+    /// Path of the last frame written (its `.vtm`).
     pub fn last_frame(&self) -> Option<PathBuf> {
         self.last_written
-            .map(|s| self.folder.join(format!("particles_{s:06}.vtu")))
+            .map(|s| self.folder.join(format!("frame_{s:06}.vtm")))
     }
 
-    /// Writes the frame of `step` at time `t`.
+    /// ADR: a load increment applying `factor` of the load begins after `iteration`; the state
+    /// the increment before ended in is written as a frame first.
+    pub fn load_increment(&mut self, model: &Model, factor: f64, iteration: usize) -> Result<()> {
+        if iteration > 0 {
+            self.write(model, iteration, iteration as f64)?;
+        }
+        for e in &mut self.entries {
+            e.end.get_or_insert(iteration);
+        }
+        self.lo = if iteration > 0 { self.hi } else { 0.0 };
+        self.hi = factor;
+        self.start = iteration;
+        Ok(())
+    }
+
+    /// The `.pvd` timestep of an entry.
+    fn timestep(&self, e: &Entry) -> f64 {
+        if !self.adr {
+            return e.time;
+        }
+        let end = e.end.or(self.last_written).unwrap_or(e.step);
+        if end > e.start {
+            e.lo + (e.hi - e.lo) * (e.step - e.start) as f64 / (end - e.start) as f64
+        } else {
+            e.hi
+        }
+    }
+
+    /// Writes the frame of `step` at time `t` (ADR: `t` is the iteration).
     pub fn write(&mut self, model: &Model, step: usize, t: f64) -> Result<()> {
         if self.last_written == Some(step) {
             return Ok(());
         }
-        let mut pos = Vec::new();
-        let mut disp = Vec::new();
-        let mut vel = Vec::new();
-        let mut force = Vec::new();
-        let mut cforce = Vec::new();
-        let mut pressure = Vec::new();
-        let mut surface = Vec::new();
-        let mut normal = Vec::new();
-        let mut body_id = Vec::new();
-        let mut volume = Vec::new();
-        let mut quads: Vec<[u32; 4]> = Vec::new();
-        let mut seg_body = Vec::new();
-        let mut seg_points: Vec<Vec3> = Vec::new();
+        let dir_name = format!("frame_{step:06}");
+        let dir = self.folder.join(&dir_name);
+        std::fs::create_dir_all(&dir).map_err(|e| Error::output(&dir, e))?;
+        let field_data: Vec<(&str, f64)> = if self.adr {
+            vec![("load_factor", self.hi), ("iteration", step as f64)]
+        } else {
+            vec![("time", t), ("step", step as f64)]
+        };
+        let mut blocks = Vec::new();
+        let mut stems: Vec<String> = Vec::new();
         for (k, b) in model.bodies.iter().enumerate() {
+            let mut stem = file_stem(b.name());
+            if stems.contains(&stem) {
+                stem = format!("{stem}_{k}");
+            }
+            stems.push(stem.clone());
             match b {
                 Body::Deformable(pd) => {
-                    let base = seg_points.len() as u32;
-                    for i in 0..pd.len() {
-                        let y = pd.position(i);
-                        pos.push(y);
-                        seg_points.push(y);
-                    }
-                    disp.extend_from_slice(&pd.u);
-                    vel.extend_from_slice(&pd.v);
-                    force.extend_from_slice(&pd.force);
-                    cforce.extend_from_slice(&pd.contact_force);
-                    pressure.extend(contact_pressure(model, k));
-                    surface.extend(pd.case.surface.is_surface.iter().map(|&s| s as i32));
-                    normal.extend_from_slice(&pd.case.surface.normal);
-                    body_id.extend(std::iter::repeat_n(k as i32, pd.len()));
-                    volume.extend_from_slice(&pd.case.particles.volume);
-                    for s in pd.segments() {
-                        quads.push(s.nodes.map(|n| n + base));
-                        seg_body.push(k as i32);
-                    }
+                    let n = pd.len();
+                    let reference = &pd.case.particles.position;
+                    let fields = vec![
+                        Field::vector("displacement", pd.u.clone()),
+                        Field::vector("velocity", pd.v.clone()),
+                        Field::vector("force", pd.force.clone()),
+                        Field::vector("contact_force", pd.contact_force.clone()),
+                        Field::scalar("contact_pressure", contact_pressure(model, k)),
+                        Field::int(
+                            "surface",
+                            pd.case
+                                .surface
+                                .is_surface
+                                .iter()
+                                .map(|&s| s as i32)
+                                .collect(),
+                        ),
+                        Field::vector("normal", pd.case.surface.normal.clone()),
+                        Field::int("body", vec![k as i32; n]),
+                        Field::scalar("volume", pd.case.particles.volume.clone()),
+                    ];
+                    // The surface: the master segments on their own nodes, numbered in order
+                    // of first use, with the particles' values there.
+                    let mut local = vec![u32::MAX; n];
+                    let mut nodes: Vec<usize> = Vec::new();
+                    let quads: Vec<[u32; 4]> = pd
+                        .segments()
+                        .iter()
+                        .map(|s| {
+                            s.nodes.map(|i| {
+                                let i = i as usize;
+                                if local[i] == u32::MAX {
+                                    local[i] = nodes.len() as u32;
+                                    nodes.push(i);
+                                }
+                                local[i]
+                            })
+                        })
+                        .collect();
+                    let surface_fields = fields.iter().map(|f| pick(f, &nodes)).collect();
+                    let pfile = format!("{dir_name}/{stem}_particles.vtu");
+                    let sfile = format!("{dir_name}/{stem}_surface.vtu");
+                    write_vtu_with_field_data(
+                        &self.folder.join(&pfile),
+                        &reference[..n],
+                        CellSpec::Vertices,
+                        fields,
+                        vec![],
+                        &field_data,
+                    )?;
+                    let surface_points: Vec<Vec3> = nodes.iter().map(|&i| reference[i]).collect();
+                    let cells = quads.len();
+                    write_vtu_with_field_data(
+                        &self.folder.join(&sfile),
+                        &surface_points,
+                        CellSpec::Quads(quads),
+                        surface_fields,
+                        vec![Field::int("body", vec![k as i32; cells])],
+                        &field_data,
+                    )?;
+                    blocks.push(BlockNode::Block(
+                        b.name().to_string(),
+                        vec![
+                            BlockNode::DataSet("particles".into(), pfile),
+                            BlockNode::DataSet("surface".into(), sfile),
+                        ],
+                    ));
                 }
                 Body::Rigid(rb) => {
-                    let base = seg_points.len() as u32;
-                    seg_points.extend((0..rb.vertices.len()).map(|i| rb.position(i)));
-                    for f in &rb.faces {
-                        quads.push(f.nodes.map(|n| n + base));
-                        seg_body.push(k as i32);
-                    }
+                    let file = format!("{dir_name}/{stem}.vtu");
+                    let quads: Vec<[u32; 4]> = rb.faces.iter().map(|f| f.nodes).collect();
+                    let cells = quads.len();
+                    write_vtu_with_field_data(
+                        &self.folder.join(&file),
+                        &rb.vertices,
+                        CellSpec::Quads(quads),
+                        vec![Field::vector(
+                            "displacement",
+                            vec![rb.translation; rb.vertices.len()],
+                        )],
+                        vec![Field::int("body", vec![k as i32; cells])],
+                        &field_data,
+                    )?;
+                    blocks.push(BlockNode::DataSet(b.name().to_string(), file));
                 }
             }
         }
-        let pname = format!("particles_{step:06}.vtu");
-        let sname = format!("segments_{step:06}.vtu");
-        write_vtu(
-            &self.folder.join(&pname),
-            &pos,
-            CellSpec::Vertices,
-            vec![
-                Field::vector("displacement", disp),
-                Field::vector("velocity", vel),
-                Field::vector("force", force),
-                Field::vector("contact_force", cforce),
-                Field::scalar("contact_pressure", pressure),
-                Field::int("surface", surface),
-                Field::vector("normal", normal),
-                Field::int("body", body_id),
-                Field::scalar("volume", volume),
-            ],
-            vec![],
-        )?;
-        write_vtu(
-            &self.folder.join(&sname),
-            &seg_points,
-            CellSpec::Quads(quads),
-            vec![],
-            vec![Field::int("body", seg_body)],
-        )?;
-        self.pvd.push(t, pname);
-        self.pvd.push_part(t, sname, 1);
-        self.pvd.write(&self.pvd_path())?;
-        self.frames += 1;
+        if self.entries.is_empty() {
+            let view = self.folder.join(VIEW_NAME);
+            let script = view_script(model);
+            write_atomically(&view, |w| w.write_all(script.as_bytes()))?;
+        }
+        let vtm = format!("{dir_name}.vtm");
+        write_vtm(&self.folder.join(&vtm), &blocks)?;
+        self.entries.push(Entry {
+            step,
+            time: t,
+            file: vtm,
+            lo: self.lo,
+            hi: self.hi,
+            start: self.start,
+            end: None,
+        });
         self.last_written = Some(step);
-        Ok(())
+        let mut pvd = PvdCollection::default();
+        for e in &self.entries {
+            pvd.push(self.timestep(e), e.file.clone());
+        }
+        pvd.write(&self.pvd_path())
+    }
+}
+
+/// The values of a per-particle field at `nodes`.
+fn pick(f: &Field, nodes: &[usize]) -> Field {
+    match f {
+        Field::Scalar(n, d) => Field::Scalar(n.clone(), nodes.iter().map(|&i| d[i]).collect()),
+        Field::Vector(n, d) => Field::Vector(n.clone(), nodes.iter().map(|&i| d[i]).collect()),
+        Field::Int(n, d) => Field::Int(n.clone(), nodes.iter().map(|&i| d[i]).collect()),
+        Field::Id(n, d) => Field::Id(n.clone(), nodes.iter().map(|&i| d[i]).collect()),
     }
 }
 
@@ -195,6 +380,10 @@ impl RunMonitor {
             );
             b
         };
+        let frames = frames.map(|mut f| {
+            f.adr = adr;
+            f
+        });
         RunMonitor {
             frames,
             bar,
@@ -225,6 +414,13 @@ impl Monitor for RunMonitor {
         Ok(())
     }
 
+    fn load_increment(&mut self, model: &Model, factor: f64, iteration: usize) -> Result<()> {
+        match &mut self.frames {
+            Some(f) => f.load_increment(model, factor, iteration),
+            None => Ok(()),
+        }
+    }
+
     fn finish(&mut self, model: &Model, step: usize, time: f64) -> Result<()> {
         self.bar.finish_and_clear();
         if let Some(f) = &mut self.frames {
@@ -251,5 +447,9 @@ mod tests {
         assert!(!is_frame_name("my_particles_000120.vtu"));
         assert!(!is_frame_name("particles_000120.vtu.bak"));
         assert!(!is_frame_name("run.pvd"));
+        assert!(is_frame_name("frame_000120.vtm"));
+        assert!(is_frame_name("frame_000120"));
+        assert!(!is_frame_name("frame_12.vtm"));
+        assert!(!is_frame_name("frame_000120.vtu"));
     }
 }

@@ -2,8 +2,8 @@
 //!
 //! | what | module |
 //! |---|---|
-//! | VTK XML files (`.vtu`, `.pvd`), written atomically | [`vtk`] |
-//! | the frames of a run, `run.pvd`, progress on stderr | [`frames`] |
+//! | VTK XML files (`.vtu`, `.vtm`, `.pvd`), written atomically | [`vtk`] |
+//! | the frames of a run, `run.pvd`, `view.py`, progress on stderr | [`frames`] |
 //! | contact pressure, contact patch, Hertz and Sadowsky references | [`analysis`] |
 
 pub mod analysis;

@@ -86,6 +86,19 @@ pub fn write_vtu(
     point_data: Vec<Field>,
     cell_data: Vec<Field>,
 ) -> Result<()> {
+    write_vtu_with_field_data(path, points, cells, point_data, cell_data, &[])
+}
+
+/// Writes an unstructured grid to `path` (atomically), with one-value `Float64` arrays in the
+/// grid's `<FieldData>` (values of the whole dataset: time, load factor, step).
+pub fn write_vtu_with_field_data(
+    path: &Path,
+    points: &[Vec3],
+    cells: CellSpec,
+    point_data: Vec<Field>,
+    cell_data: Vec<Field>,
+    field_data: &[(&str, f64)],
+) -> Result<()> {
     let coords: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
     let (connectivity, offsets, types) = match cells {
         CellSpec::Vertices => (
@@ -135,10 +148,73 @@ pub fn write_vtu(
         // Any level but 0, which vtkio takes to mean "uncompressed"; LZ4 has no levels here.
         .try_into_xml_format(Compressor::LZ4, 1)
         .map_err(|e| Error::output(path, e))?;
+    if field_data.is_empty() {
+        return write_atomically(path, |w| {
+            xml.write(w)
+                .map_err(|e| std::io::Error::other(e.to_string()))
+        });
+    }
+    // vtkio writes no `<FieldData>`: it goes in front of the first `<Piece`, where VTK's XML
+    // readers look for it (arrays are base64 text, so the file is text throughout).
+    let mut buf = Vec::new();
+    xml.write(&mut buf).map_err(|e| Error::output(path, e))?;
+    let text = String::from_utf8(buf).map_err(|e| Error::output(path, e))?;
+    let at = text
+        .find("<Piece")
+        .ok_or_else(|| Error::output(path, "no <Piece> in the XML vtkio wrote"))?;
+    let mut block = String::from("<FieldData>");
+    for (name, value) in field_data {
+        block.push_str(&format!(
+            "<DataArray type=\"Float64\" Name=\"{}\" NumberOfTuples=\"1\" format=\"ascii\">{value:.17e}</DataArray>",
+            xml_escape(name)
+        ));
+    }
+    block.push_str("</FieldData>");
     write_atomically(path, |w| {
-        xml.write(w)
-            .map_err(|e| std::io::Error::other(e.to_string()))
+        w.write_all(&text.as_bytes()[..at])?;
+        w.write_all(block.as_bytes())?;
+        w.write_all(&text.as_bytes()[at..])
     })
+}
+
+/// A node of a `.vtm` multiblock: a named block of nodes, or a named dataset file.
+#[derive(Clone, Debug)]
+pub enum BlockNode {
+    /// A named block holding other nodes.
+    Block(String, Vec<BlockNode>),
+    /// A named dataset stored in `file` (relative to the `.vtm`).
+    DataSet(String, String),
+}
+
+/// Writes a `.vtm` multiblock file (atomically); ParaView shows the names in its Multiblock
+/// Inspector and selects blocks by their paths (`/Root/ball/surface`).
+pub fn write_vtm(path: &Path, nodes: &[BlockNode]) -> Result<()> {
+    fn put(s: &mut String, nodes: &[BlockNode], depth: usize) {
+        let pad = "  ".repeat(depth);
+        for (k, n) in nodes.iter().enumerate() {
+            match n {
+                BlockNode::Block(name, children) => {
+                    s.push_str(&format!(
+                        "{pad}<Block index=\"{k}\" name=\"{}\">\n",
+                        xml_escape(name)
+                    ));
+                    put(s, children, depth + 1);
+                    s.push_str(&format!("{pad}</Block>\n"));
+                }
+                BlockNode::DataSet(name, file) => s.push_str(&format!(
+                    "{pad}<DataSet index=\"{k}\" name=\"{}\" file=\"{}\"/>\n",
+                    xml_escape(name),
+                    xml_escape(file)
+                )),
+            }
+        }
+    }
+    let mut s = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"vtkMultiBlockDataSet\" version=\"1.0\" byte_order=\"LittleEndian\">\n  <vtkMultiBlockDataSet>\n",
+    );
+    put(&mut s, nodes, 2);
+    s.push_str("  </vtkMultiBlockDataSet>\n</VTKFile>\n");
+    write_atomically(path, |w| w.write_all(s.as_bytes()))
 }
 
 /// A `.pvd` collection: one entry per time step.

@@ -153,6 +153,7 @@ pub fn adr(
                 }
             }
         }
+        monitor.load_increment(model, scale, n)?;
         n = adr_increment(
             model,
             &density,

@@ -47,6 +47,12 @@ pub trait Monitor {
     /// Called after every step with the step number, the (pseudo-)time and the residual
     /// (ADR) or the kinetic energy (explicit). Return an error to stop the run.
     fn step(&mut self, model: &Model, step: usize, time: f64, measure: f64) -> Result<()>;
+    /// ADR: called before each load increment with the fraction of the full load it applies
+    /// (`1/load_steps`, …, 1) and the last iteration of the increment before (0 before the
+    /// first), in the state that increment ended in.
+    fn load_increment(&mut self, _model: &Model, _factor: f64, _iteration: usize) -> Result<()> {
+        Ok(())
+    }
     /// Called once at the end with the last state.
     fn finish(&mut self, model: &Model, step: usize, time: f64) -> Result<()>;
     /// Whether the user asked to stop (Ctrl-C); the solver then writes the last frame and ends.

@@ -1,0 +1,167 @@
+"""Show the last frame of this run in ParaView, coloured by contact pressure.
+
+    pvpython view.py                # render the last frame
+    pvpython view.py contact.png    # ... and save it as a PNG
+    python3 view.py --focus         # print the camera it would use (Python's vtk, no ParaView)
+
+In ParaView's Python shell: `import os; os.chdir("RUN_FOLDER"); exec(open("view.py").read())`.
+
+It opens run.pvd beside this file at its last timestep, warps every block by `displacement`
+(the points are the reference positions, so scale 1 gives the deformed shape), shows each
+slave's `<body>/surface` coloured by `contact_pressure` (Pa) and each master translucent, and
+puts the camera on the contact: looking through the master at the pressure-weighted centre of
+the loaded surface nodes, along their mean outward normal.
+"""
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+# (slave, master) body names of the contact pairs, and the deformable bodies: written by
+# pdcontact for this run.
+PAIRS = []
+DEFORMABLE = []
+
+try:
+    HERE = os.path.dirname(os.path.abspath(__file__))
+except NameError:  # run from ParaView's Python shell: the current folder
+    HERE = os.getcwd()
+
+
+def last_frame():
+    """The .vtm file of the last timestep of run.pvd, and that timestep."""
+    root = ET.parse(os.path.join(HERE, "run.pvd")).getroot()
+    entries = [(float(e.get("timestep")), e.get("file")) for e in root.iter("DataSet")]
+    if not entries:
+        raise SystemExit("run.pvd lists no frames")
+    t, f = max(entries)
+    return os.path.join(HERE, f), t
+
+
+def read_blocks(vtm):
+    """{block path: dataset} of a frame, e.g. {"ball/surface": ..., "plane": ...}."""
+    from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet
+    from vtkmodules.vtkIOXML import vtkXMLMultiBlockDataReader
+
+    r = vtkXMLMultiBlockDataReader()
+    r.SetFileName(vtm)
+    r.Update()
+    out = {}
+
+    def walk(mb, prefix):
+        for k in range(mb.GetNumberOfBlocks()):
+            name = mb.GetMetaData(k).Get(vtkCompositeDataSet.NAME())
+            b = mb.GetBlock(k)
+            if b is None:
+                continue
+            if b.IsA("vtkMultiBlockDataSet"):
+                walk(b, prefix + name + "/")
+            else:
+                out[prefix + name] = b
+
+    walk(r.GetOutput(), "")
+    return out
+
+
+def focus(blocks, slaves):
+    """Camera target from the slaves' surfaces: (centre, outward normal, radius) of the loaded
+    nodes (deformed positions, weighted by pressure); the surfaces' bounds when none is loaded."""
+    sw, c, n, pts = 0.0, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], []
+    lo, hi = [float("inf")] * 3, [float("-inf")] * 3
+    for s in slaves:
+        g = blocks.get(s + "/surface")
+        if g is None:
+            continue
+        pd = g.GetPointData()
+        p, u, nrm = pd.GetArray("contact_pressure"), pd.GetArray("displacement"), pd.GetArray("normal")
+        for i in range(g.GetNumberOfPoints()):
+            x = [a + b for a, b in zip(g.GetPoint(i), u.GetTuple3(i))]
+            lo = [min(a, b) for a, b in zip(lo, x)]
+            hi = [max(a, b) for a, b in zip(hi, x)]
+            w = p.GetValue(i)
+            if w > 0.0:
+                sw += w
+                c = [a + w * b for a, b in zip(c, x)]
+                n = [a + w * b for a, b in zip(n, nrm.GetTuple3(i))]
+                pts.append(x)
+    if sw == 0.0:
+        if lo[0] == float("inf"):
+            raise SystemExit("no slave surface in the frame")
+        centre = [(a + b) / 2 for a, b in zip(lo, hi)]
+        radius = max(b - a for a, b in zip(lo, hi)) / 2
+        return centre, [0.0, 0.0, -1.0], radius, 0
+    centre = [a / sw for a in c]
+    ln = sum(a * a for a in n) ** 0.5 or 1.0
+    normal = [a / ln for a in n]
+    radius = max(sum((a - b) ** 2 for a, b in zip(x, centre)) ** 0.5 for x in pts)
+    # At least a tenth of the body, so that a one-node contact is not a close-up of nothing.
+    radius = max(radius, max(b - a for a, b in zip(lo, hi)) / 10)
+    return centre, normal, radius, len(pts)
+
+
+def camera(centre, normal, radius):
+    """Position, focal point and view-up: on the master's side of the contact, along the normal."""
+    dist = 8.0 * radius
+    position = [c + dist * n for c, n in zip(centre, normal)]
+    # View-up: the axis least aligned with the normal, made orthogonal to it.
+    axis = min(range(3), key=lambda k: abs(normal[k]))
+    up = [1.0 if k == axis else 0.0 for k in range(3)]
+    d = sum(a * b for a, b in zip(up, normal))
+    up = [a - d * b for a, b in zip(up, normal)]
+    return position, centre, up
+
+
+def main(argv):
+    slaves = sorted({s for s, _ in PAIRS}) or list(DEFORMABLE)
+    masters = sorted({m for _, m in PAIRS} - set(slaves))
+    vtm, t = last_frame()
+    centre, normal, radius, loaded = focus(read_blocks(vtm), slaves)
+    position, focal, up = camera(centre, normal, radius)
+    if "--focus" in argv:
+        import json
+
+        print(json.dumps({"frame": os.path.basename(vtm), "timestep": t, "centre": centre,
+                          "normal": normal, "radius": radius, "loaded": loaded,
+                          "position": position, "up": up, "slaves": slaves, "masters": masters}))
+        return
+    png = next((a for a in argv[1:] if not a.startswith("-")), None)
+
+    from paraview import simple as pv
+
+    reader = pv.PVDReader(FileName=os.path.join(HERE, "run.pvd"))
+    scene = pv.GetAnimationScene()
+    scene.UpdateAnimationUsingDataTimeSteps()
+    scene.AnimationTime = t
+    warp = pv.WarpByVector(Input=reader)
+    warp.Vectors = ["POINTS", "displacement"]
+    warp.ScaleFactor = 1.0
+    view = pv.GetActiveViewOrCreate("RenderView")
+
+    def block(path):
+        e = pv.ExtractBlock(Input=warp)
+        e.Selectors = ["/Root/" + path]
+        return e
+
+    for s in slaves:
+        d = pv.Show(block(s + "/surface"), view)
+        d.Representation = "Surface"
+        pv.ColorBy(d, ("POINTS", "contact_pressure"))
+        d.RescaleTransferFunctionToDataRange(True, False)
+        d.SetScalarBarVisibility(view, True)
+        pv.GetScalarBar(pv.GetColorTransferFunction("contact_pressure"), view).Title = "contact_pressure (Pa)"
+    for m in masters:
+        d = pv.Show(block(m + "/surface" if m in DEFORMABLE else m), view)
+        pv.ColorBy(d, None)
+        d.AmbientColor = d.DiffuseColor = [0.7, 0.7, 0.75]
+        d.Opacity = 0.3
+    view.CameraPosition = position
+    view.CameraFocalPoint = focal
+    view.CameraViewUp = up
+    view.OrientationAxesVisibility = 1
+    pv.Render(view)
+    if png:
+        pv.SaveScreenshot(png, view, ImageResolution=[1600, 1000])
+        print("saved " + png)
+
+
+if __name__ != "view":  # run as a script or through exec(), not imported
+    main(getattr(sys, "argv", None) or [""])

@@ -1,0 +1,230 @@
+//! The frames a run leaves for ParaView, read back as XML: `run.pvd` timesteps, the named
+//! blocks of each `frame_NNNNNN.vtm`, and the field data of each dataset.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pdcontact-frames-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// A 1 × 1 × 0.5 m block (spacing 0.25) pressed by 100 kN onto a rigid plane 1 cm below it.
+fn scene(solver: &str, every: usize) -> String {
+    format!(
+        r#"[solver]
+{solver}
+[output]
+every = {every}
+folder = "out"
+[[body]]
+name = "block"
+generator = {{ shape = "box", min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 0.5], spacing = 0.25 }}
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[body]]
+name = "floor"
+kind = "rigid"
+generator = {{ shape = "plane", point = [0.0, 0.0, -0.01], normal = [0.0, 0.0, 1.0], size = 3.0 }}
+[[contact]]
+slave = "block"
+master = "floor"
+[[load]]
+body = "block"
+force = [0.0, 0.0, -1e5]
+"#
+    )
+}
+
+/// Runs a scene; returns its output folder.
+fn run(name: &str, text: &str) -> PathBuf {
+    let dir = temp_dir(name);
+    std::fs::write(dir.join("scene.toml"), text).expect("scene");
+    let out = Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+        .args(["run", "--quiet"])
+        .arg(dir.join("scene.toml"))
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    dir.join("out")
+}
+
+/// The values of attribute `attr` of the elements `tag` in `xml`, in order.
+fn attributes(xml: &str, tag: &str, attr: &str) -> Vec<String> {
+    xml.split(&format!("<{tag} "))
+        .skip(1)
+        .filter_map(|e| {
+            let e = format!(" {}", e.split('>').next()?);
+            let v = e.split_once(&format!(" {attr}=\""))?.1;
+            Some(v.split('"').next()?.to_string())
+        })
+        .collect()
+}
+
+/// `.pvd` entries: (timestep, file).
+fn pvd(out: &Path) -> Vec<(f64, String)> {
+    let text = std::fs::read_to_string(out.join("run.pvd")).expect("run.pvd");
+    let t = attributes(&text, "DataSet", "timestep");
+    let f = attributes(&text, "DataSet", "file");
+    assert_eq!(t.len(), f.len());
+    t.iter()
+        .map(|t| t.parse().expect("number"))
+        .zip(f)
+        .collect()
+}
+
+/// A one-value field data array of a `.vtu`.
+fn field_value(vtu: &Path, name: &str) -> f64 {
+    let text = std::fs::read_to_string(vtu).expect("vtu");
+    let field = text
+        .split_once("<FieldData>")
+        .and_then(|(_, r)| r.split_once("</FieldData>"))
+        .unwrap_or_else(|| panic!("{vtu:?}: no FieldData"))
+        .0;
+    let tag = format!("Name=\"{name}\"");
+    let (_, rest) = field
+        .split_once(&tag)
+        .unwrap_or_else(|| panic!("{vtu:?}: no field {name}"));
+    let value = rest.split_once('>').expect("element").1;
+    value
+        .split('<')
+        .next()
+        .expect("value")
+        .trim()
+        .parse()
+        .expect("number")
+}
+
+/// Block and dataset names of a frame, and its files.
+fn frame(out: &Path, vtm: &str) -> (Vec<String>, Vec<String>, Vec<String>) {
+    let text = std::fs::read_to_string(out.join(vtm)).expect("vtm");
+    assert!(text.contains("type=\"vtkMultiBlockDataSet\""), "{text}");
+    (
+        attributes(&text, "Block", "name"),
+        attributes(&text, "DataSet", "name"),
+        attributes(&text, "DataSet", "file"),
+    )
+}
+
+/// Runs tools/check_vtk.py on a run folder when Python's vtk is there.
+fn check_vtk(out: &Path) {
+    let has_vtk = Command::new("python3")
+        .args(["-c", "import vtk, numpy"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if !has_vtk {
+        eprintln!("python3 with vtk not found: VTK reader check skipped");
+        return;
+    }
+    let check = Command::new("python3")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/check_vtk.py"))
+        .args(["run"])
+        .arg(out)
+        .args(["--plane-normal", "0,0,1", "--plane-point", "0,0,-0.01"])
+        .output()
+        .expect("python3 runs");
+    assert!(
+        check.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&check.stdout),
+        String::from_utf8_lossy(&check.stderr)
+    );
+}
+
+/// ADR in three load increments, frames only at their ends: the timesteps are the load
+/// factors 1/3, 2/3, 1, and each frame's `load_factor` says the same.
+#[test]
+fn adr_frames_at_the_load_factors_with_named_blocks() {
+    let out = run("adr", &scene("kind = \"adr\"\nload_steps = 3", 1_000_000));
+    let entries = pvd(&out);
+    assert_eq!(entries.len(), 3, "{entries:?}");
+    for (k, (t, vtm)) in entries.iter().enumerate() {
+        let factor = (k + 1) as f64 / 3.0;
+        assert!((t - factor).abs() < 1e-8, "{entries:?}");
+        let (blocks, datasets, files) = frame(&out, vtm);
+        assert_eq!(blocks, ["block"]);
+        assert_eq!(datasets, ["particles", "surface", "floor"]);
+        let stem = vtm.strip_suffix(".vtm").expect("vtm");
+        assert_eq!(
+            files,
+            [
+                format!("{stem}/block_particles.vtu"),
+                format!("{stem}/block_surface.vtu"),
+                format!("{stem}/floor.vtu"),
+            ]
+        );
+        for f in &files {
+            let lf = field_value(&out.join(f), "load_factor");
+            assert!((lf - factor).abs() < 1e-12, "{f}: {lf}");
+        }
+    }
+    check_vtk(&out);
+    view_focus(&out);
+    let _ = std::fs::remove_dir_all(out.parent().expect("dir"));
+}
+
+/// `view.py` beside `run.pvd` names the pair and, without ParaView (`--focus`, Python's vtk),
+/// aims at the contact: the bottom face pressed onto the floor at z = −0.01, normal −z.
+fn view_focus(out: &Path) {
+    let script = out.join("view.py");
+    let text = std::fs::read_to_string(&script).expect("view.py");
+    assert!(text.contains("PAIRS = [(\"block\", \"floor\")]"), "{text}");
+    assert!(text.contains("DEFORMABLE = [\"block\"]"), "{text}");
+    let has_vtk = Command::new("python3")
+        .args(["-c", "import vtk"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if !has_vtk {
+        eprintln!("python3 with vtk not found: view.py --focus skipped");
+        return;
+    }
+    let run = Command::new("python3")
+        .arg(&script)
+        .arg("--focus")
+        .current_dir(std::env::temp_dir())
+        .output()
+        .expect("python3 runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let r: serde_json::Value = serde_json::from_slice(&run.stdout).expect("JSON");
+    assert_eq!(r["masters"], serde_json::json!(["floor"]));
+    assert_eq!(r["slaves"], serde_json::json!(["block"]));
+    assert!(r["loaded"].as_u64().expect("count") > 0, "{r}");
+    let z = r["centre"][2].as_f64().expect("z");
+    assert!((z + 0.01).abs() < 0.005, "{r}");
+    assert!(r["normal"][2].as_f64().expect("nz") < -0.99, "{r}");
+    // The camera looks up at the contact through the floor.
+    assert!(r["position"][2].as_f64().expect("z") < z, "{r}");
+}
+
+/// Explicit: the timesteps are the times, as each frame's field data `time` says.
+#[test]
+fn explicit_frames_at_their_times() {
+    let out = run(
+        "explicit",
+        &scene("kind = \"explicit\"\nend_time = 2e-3", 5),
+    );
+    let entries = pvd(&out);
+    assert!(entries.len() >= 2, "{entries:?}");
+    assert!(entries.windows(2).all(|w| w[0].0 < w[1].0), "{entries:?}");
+    for (t, vtm) in &entries {
+        let (_, _, files) = frame(&out, vtm);
+        let time = field_value(&out.join(&files[0]), "time");
+        assert!(
+            (time - t).abs() <= 1e-8 * time.abs(),
+            "{vtm}: {time} vs {t}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(out.parent().expect("dir"));
+}
