@@ -3,9 +3,9 @@
 
     python3 tools/gmsh_hertz_cap.py KIND H A OUT.msh [--scene SCENE.toml]
 
-The quarter shell sector of a unit sphere around its south pole that
-`pdcontact validate --case sphere --set hertz` generates (R - 3a <= r <= R,
-0 <= x, y <= 3a), built with OpenCASCADE and meshed with only
+A quarter of the shell of a unit sphere around its south pole, like the body of
+`pdcontact validate --case sphere --set hertz` (R - 3a <= r <= R, cut by the box
+0 <= x, y <= 3a, z <= 0), built with OpenCASCADE and meshed with only
 Mesh.MeshSizeMin = Mesh.MeshSizeMax = H. KIND: tet4, tet10, or hex (each tet
 split into four hexes, Mesh.SubdivisionAlgorithm = 2). The inner spherical face
 is the physical surface "top", where the scene puts the load. With --scene, also
