@@ -228,3 +228,80 @@ fn explicit_frames_at_their_times() {
     }
     let _ = std::fs::remove_dir_all(out.parent().expect("dir"));
 }
+
+/// With ParaView at hand (`pvpython` and `xvfb-run`), `view.py` renders the last frame of the
+/// demo offscreen, and the PNG shows the pressure colour map at the contact: the image centre,
+/// where the camera looks at the loaded surface, is warm (red over blue), its corners are the
+/// background. Skipped, saying so, where ParaView or Python's vtk (to read the PNG) is missing.
+#[test]
+fn view_py_renders_the_contact_in_paraview() {
+    let found = |tool: &str| {
+        Command::new("sh")
+            .args(["-c", &format!("command -v {tool}")])
+            .output()
+            .is_ok_and(|o| o.status.success())
+    };
+    let vtk = Command::new("python3")
+        .args(["-c", "import vtk"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !(found("pvpython") && found("xvfb-run") && vtk) {
+        eprintln!("pvpython, xvfb-run or python3's vtk not found: view.py rendering skipped");
+        return;
+    }
+    let dir = temp_dir("view");
+    let out = dir.join("demo");
+    let status = Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+        .args(["demo", "--quiet", "--output"])
+        .arg(&out)
+        .status()
+        .expect("demo runs");
+    assert!(status.success());
+    let png = dir.join("contact.png");
+    let render = Command::new("xvfb-run")
+        .args(["-a", "pvpython"])
+        .arg(out.join("view.py"))
+        .arg(&png)
+        .output()
+        .expect("pvpython runs");
+    assert!(
+        render.status.success() && png.is_file(),
+        "{}{}",
+        String::from_utf8_lossy(&render.stdout),
+        String::from_utf8_lossy(&render.stderr)
+    );
+    // Mean colour of a small window at the centre and of a corner, as "r g b" lines.
+    let probe = r#"
+import sys, vtk
+from vtk.util.numpy_support import vtk_to_numpy
+r = vtk.vtkPNGReader(); r.SetFileName(sys.argv[1]); r.Update()
+w, h, _ = r.GetOutput().GetDimensions()
+img = vtk_to_numpy(r.GetOutput().GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3] / 255.0
+c = img[h // 2 - h // 40: h // 2 + h // 40, w // 2 - w // 40: w // 2 + w // 40].reshape(-1, 3).mean(0)
+k = img[: h // 20, : w // 20].reshape(-1, 3).mean(0)
+print(*c); print(*k)
+"#;
+    let probed = Command::new("python3")
+        .args(["-c", probe])
+        .arg(&png)
+        .output()
+        .expect("python3 runs");
+    let text = String::from_utf8_lossy(&probed.stdout);
+    let rgb: Vec<Vec<f64>> = text
+        .lines()
+        .map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(
+        rgb.len(),
+        2,
+        "{text}{}",
+        String::from_utf8_lossy(&probed.stderr)
+    );
+    let (centre, corner) = (&rgb[0], &rgb[1]);
+    assert!(centre[0] > centre[2] + 0.2, "centre not warm: {centre:?}");
+    assert!(
+        (centre[0] - corner[0]).abs() > 0.2,
+        "centre {centre:?}, corner {corner:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
