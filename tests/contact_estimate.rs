@@ -27,7 +27,7 @@ fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
-/// The demo's scene (a body on a rigid plane at z = `floor`, loaded down by `load`) with a
+/// The whole-sphere Hertz scene (a body on a rigid plane at z = `floor`, loaded down by `load`) with a
 /// short explicit solve, so that `pdcontact run` ends at once.
 fn plane_scene(mesh: &Path, floor: f64, load: f64) -> String {
     format!(
@@ -118,8 +118,8 @@ fn coarse_tet_sphere_under_a_small_load_warns_with_the_hertz_numbers() {
 }
 
 #[test]
-fn resolved_tet_sphere_under_the_demo_load_does_not_warn() {
-    // meshes/sphere_tet4_h007.msh with the demo's load: a = 0.3 m, about 4.6 spacings.
+fn resolved_tet_sphere_under_a_resolved_load_does_not_warn() {
+    // meshes/sphere_tet4_h007.msh with P = 3.84e7 N: a = 0.3 m, about 4.6 spacings.
     let load = 3.84e7;
     let r = only(resolution_of(&plane_scene(
         &repo("meshes/sphere_tet4_h007.msh"),

@@ -1,5 +1,5 @@
 //! The Hertz sphere on meshes made as a user makes them: gmsh's default algorithms, only the
-//! element size set, in the demo's scene. meshes/sphere_tet4_h007.geo: unstructured tet4,
+//! element size set, on a rigid plane under a = 0.3 R (docs/VALIDATION.md). meshes/sphere_tet4_h007.geo: unstructured tet4,
 //! h = 0.07 m (force over tributary area gave MRE 20.6 %, radius +10.7 %, peak +38.8 %);
 //! meshes/sphere_hex_h020.geo: the tets of h = 0.2 m each split into four hexes (the paper's
 //! surface test flagged a quarter of the interior, MRE 23.9 %). docs/VALIDATION.md,
@@ -36,7 +36,7 @@ fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
-/// Runs the demo's Hertz scene on `mesh` and returns the model, Hertz's a and p0, and the
+/// Runs the whole-sphere Hertz scene on `mesh` and returns the model, Hertz's a and p0, and the
 /// figures of METHOD.md §7 (every facing particle within 0.8a).
 fn hertz_run(mesh: &Path, tag: &str) -> (Model, f64, f64, Accuracy, f64) {
     let dir = temp_dir(tag);

@@ -33,7 +33,7 @@ fn validate(args: &[&str]) -> std::process::Output {
         .expect("pdcontact runs")
 }
 
-/// The demo's scene on the stored tet sphere, through the command line: the figures of
+/// The whole-sphere Hertz scene on the stored tet sphere, through the command line: the figures of
 /// tests/unstructured.rs (MRE 6.41 %, radius +5.75 %, peak −2.72 %), the scene, frames and
 /// chart in the output folder, and the warning that a/Δ = 3.9 is below 5.
 #[test]

@@ -153,6 +153,9 @@ def main(argv):
         pv.ColorBy(d, None)
         d.AmbientColor = d.DiffuseColor = [0.7, 0.7, 0.75]
         d.Opacity = 0.3
+    # pvpython resets the camera to the whole scene on its first render unless told not to.
+    if hasattr(pv, "_DisableFirstRenderCameraReset"):
+        pv._DisableFirstRenderCameraReset()
     view.CameraPosition = position
     view.CameraFocalPoint = focal
     view.CameraViewUp = up

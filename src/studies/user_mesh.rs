@@ -13,7 +13,7 @@
 //!   structured roller slice of the "hertz" set ([`hertz_roller_case`]); any length works, a
 //!   slice a few spacings long is the cheapest.
 //!
-//! The scene is that of `pdcontact demo` (METHOD.md §7): E = 1 GPa, ν = 0.25, small bond
+//! The scene is the whole-sphere Hertz scene of docs/VALIDATION.md (METHOD.md §7): E = 1 GPa, ν = 0.25, small bond
 //! kinematics, ADR, a stiff penalty (radius 100 R), a rigid plane just touching the lowest
 //! node, and the load spread over the body by volume so that Hertz's contact radius (sphere)
 //! or half-width (roller) is `a = 0.3 R`. The body is pressed along −z, or along −x when a
@@ -39,14 +39,14 @@ use crate::studies::scenarios::{
 };
 use crate::studies::validate::table_with_peak;
 
-/// Hertz contact radius (sphere) or half-width (roller) over the body's radius: the demo's.
+/// Hertz contact radius (sphere) or half-width (roller) over the body's radius, as in the whole-sphere scene of docs/VALIDATION.md.
 pub const CONTACT_RATIO: f64 = 0.3;
 /// How far the mesh may depart from the shape: extents that should agree, and boundary nodes'
 /// distances from the centre (sphere) or axis (roller), relative to the radius.
 pub const SHAPE_TOLERANCE: f64 = 0.03;
 /// Below this many particle spacings across the contact radius the figures are coarse.
 pub const MIN_CONTACT_SPACINGS: f64 = 5.0;
-/// Penalty radius of the contact over the body's radius: the demo's 100 m on R = 1 m, scaled
+/// Penalty radius of the contact over the body's radius: 100 m on R = 1 m, scaled
 /// with the body so that the penetration stays the same small fraction of the approach.
 const PENALTY_RATIO: f64 = 100.0;
 
