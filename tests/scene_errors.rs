@@ -199,7 +199,7 @@ fn material_constants() {
         "negative-e",
         &text,
         "youngs_modulus",
-        &["youngs_modulus", "positive", "-1000000000"],
+        &["youngs_modulus", "positive", "got -1e9"],
     );
     let text = GOOD.replace("youngs_modulus = 1e9", "youngs_modulus = 0.0");
     assert_error(

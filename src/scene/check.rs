@@ -445,8 +445,16 @@ pub(crate) fn memory_bytes(particles: f64, m: f64) -> f64 {
     particles * (400.0 + 24.0 * 4.0 / 3.0 * std::f64::consts::PI * m.powi(3))
 }
 
-/// This machine's memory, bytes (`/proc/meminfo`; 64 GiB where it cannot be read).
+/// The most memory a model may need, bytes: `PDCONTACT_MEMORY_LIMIT` (bytes) where set, else
+/// this machine's memory (`/proc/meminfo`; 64 GiB where it cannot be read).
 pub(crate) fn memory_limit() -> f64 {
+    if let Some(b) = std::env::var("PDCONTACT_MEMORY_LIMIT")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|b| *b > 0.0)
+    {
+        return b;
+    }
     std::fs::read_to_string("/proc/meminfo")
         .ok()
         .and_then(|t| {
@@ -635,7 +643,7 @@ fn check_shape(b: &BodySpec, err: &dyn Fn(&str, String) -> Error) -> Result<()> 
                 return Err(err(
                     "divisions",
                     format!(
-                        "body \"{}\": divisions = {} makes {} faces, about {} of memory; this machine has {}",
+                        "body \"{}\": divisions = {} makes {} faces, about {} of memory; the limit is {} (this machine's memory, or PDCONTACT_MEMORY_LIMIT)",
                         b.name,
                         g.divisions.unwrap_or(1),
                         num(d * d),
@@ -664,7 +672,7 @@ fn check_shape(b: &BodySpec, err: &dyn Fn(&str, String) -> Error) -> Result<()> 
         return Err(err(
             "spacing",
             format!(
-                "body \"{}\": spacing {} makes about {} particles, about {} of memory (horizon factor {}); this machine has {}: raise the spacing",
+                "body \"{}\": spacing {} makes about {} particles, about {} of memory (horizon factor {}); the limit is {} (this machine's memory, or PDCONTACT_MEMORY_LIMIT): raise the spacing",
                 b.name,
                 num(dx),
                 num(particles.round()),

@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 
 mod check;
 
-pub(crate) use check::box_corner;
+pub(crate) use check::{box_corner, memory_limit};
 
 use crate::case::correction::CorrectionMethod;
 use crate::error::{Error, Result};
@@ -469,6 +469,13 @@ fn short_message(msg: &str) -> String {
     let words: Vec<String> = msg
         .split(' ')
         .map(|w| {
+            // A long number (toml writes 1e300 in 301 digits) in short form.
+            let core = w.trim_matches(|c: char| "`'\",;:()".contains(c));
+            if core.len() > 20 {
+                if let Ok(v) = core.parse::<f64>() {
+                    return w.replace(core, &num(v));
+                }
+            }
             if w.chars().count() > EXCERPT_CHARS + 2 {
                 excerpt(w)
             } else {
