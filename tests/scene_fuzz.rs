@@ -265,6 +265,11 @@ fn fuzz(name: &str, seed: &str, dir: &Path, rng_seed: u64) -> (Vec<String>, [usi
     let mut counts = [0; 4];
     for k in 0..PER_SCENE {
         let (text, what) = mutate(seed, &mut rng);
+        // PDCONTACT_FUZZ_DUMP=DIR writes the mutated scenes, to run them through another build
+        // (docs/RELIABILITY.md counts the crashes before and after this way).
+        if let Ok(out) = std::env::var("PDCONTACT_FUZZ_DUMP") {
+            let _ = std::fs::write(Path::new(&out).join(format!("{name}-{k:03}.toml")), &text);
+        }
         let (outcome, msg) = check(&text, dir);
         counts[outcome as usize] += 1;
         let long_number = msg

@@ -467,7 +467,19 @@ pub(crate) fn memory_limit() -> f64 {
 
 /// "12.3 GB".
 fn gigabytes(bytes: f64) -> String {
-    format!("{} GB", num((bytes / 1e9 * 10.0).round() / 10.0))
+    format!("{} GB", count(bytes / 1e9))
+}
+
+/// A count as a message shows it: "about 4.19e9", "about 720", or "more than 1e308" where
+/// f64 overflowed.
+fn count(x: f64) -> String {
+    if !x.is_finite() {
+        "more than 1e308".to_string()
+    } else if x >= 1e4 {
+        format!("about {x:.2e}")
+    } else {
+        format!("about {}", num((x * 10.0).round() / 10.0))
+    }
 }
 
 /// The keys each generator shape reads; any other is refused.
@@ -643,7 +655,7 @@ fn check_shape(b: &BodySpec, err: &dyn Fn(&str, String) -> Error) -> Result<()> 
                 return Err(err(
                     "divisions",
                     format!(
-                        "body \"{}\": divisions = {} makes {} faces, about {} of memory; the limit is {} (this machine's memory, or PDCONTACT_MEMORY_LIMIT)",
+                        "body \"{}\": divisions = {} makes {} faces, {} of memory; the limit is {} (this machine's memory, or PDCONTACT_MEMORY_LIMIT)",
                         b.name,
                         g.divisions.unwrap_or(1),
                         num(d * d),
@@ -672,10 +684,10 @@ fn check_shape(b: &BodySpec, err: &dyn Fn(&str, String) -> Error) -> Result<()> 
         return Err(err(
             "spacing",
             format!(
-                "body \"{}\": spacing {} makes about {} particles, about {} of memory (horizon factor {}); the limit is {} (this machine's memory, or PDCONTACT_MEMORY_LIMIT): raise the spacing",
+                "body \"{}\": spacing {} makes {} particles, {} of memory (horizon factor {}); the limit is {} (this machine's memory, or PDCONTACT_MEMORY_LIMIT): raise the spacing",
                 b.name,
                 num(dx),
-                num(particles.round()),
+                count(particles),
                 gigabytes(bytes),
                 num(m),
                 gigabytes(limit)

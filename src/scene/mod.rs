@@ -651,7 +651,7 @@ master = "plane"
             ),
             (
                 GOOD.replace("spacing = 0.2 }", "spacing = 1e-300 }"),
-                &[":7:", "spacing 1e-300 makes about", "GB of memory"],
+                &[":7:", "spacing 1e-300 makes more than 1e308 particles", "GB of memory"],
             ),
             (GOOD.replace("kind = \"adr\"", "kind = \"adr\"\nmax_iterations = 0"), &[":4:1:", "max_iterations must be at least 1"]),
             (
