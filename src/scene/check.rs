@@ -428,7 +428,7 @@ impl Scene {
             .into_iter()
             .filter(|(_, given)| *given)
             .map(|(key, _)| {
-                let (l, c) = locate(&self.text, key);
+                let (l, c) = solver_key(&self.text, key);
                 format!(
                     "{}:{l}:{c}: [solver] {key} is ignored by the {kind} solver",
                     self.source
@@ -436,6 +436,23 @@ impl Scene {
             })
             .collect()
     }
+}
+
+/// Line and column of the line of `[solver]` that sets `key` (`dt` is also in `half_width`).
+fn solver_key(text: &str, key: &str) -> (usize, usize) {
+    let mut in_solver = false;
+    for (k, line) in text.lines().enumerate() {
+        let t = line.trim_start();
+        if t.starts_with('[') {
+            in_solver = t.starts_with("[solver]");
+        } else if in_solver
+            && t.strip_prefix(key)
+                .is_some_and(|r| r.trim_start().starts_with('='))
+        {
+            return (k + 1, line.len() - t.len() + 1);
+        }
+    }
+    locate(text, key)
 }
 
 /// Bytes that `particles` PD particles with horizon factor `m` take, roughly: per particle
