@@ -272,6 +272,16 @@ fn fuzz(name: &str, seed: &str, dir: &Path, rng_seed: u64) -> (Vec<String>, [usi
         }
         let (outcome, msg) = check(&text, dir);
         counts[outcome as usize] += 1;
+        if let Ok(out) = std::env::var("PDCONTACT_FUZZ_DUMP") {
+            let line = format!(
+                "{name}-{k:03}\t{outcome:?}\t{what}\t{}\n",
+                excerpt_msg(&msg)
+            );
+            let log = Path::new(&out).join("outcomes.tsv");
+            let mut old = std::fs::read_to_string(&log).unwrap_or_default();
+            old.push_str(&line);
+            let _ = std::fs::write(log, old);
+        }
         let long_number = msg
             .split(|c: char| !c.is_ascii_digit())
             .any(|run| run.len() > 30);
