@@ -171,6 +171,11 @@ enum Command {
         /// No progress on stderr.
         #[arg(long)]
         quiet: bool,
+        /// Check the scene and stop: read the meshes, build the particles, bonds, surfaces
+        /// and contact pairs, print the warnings, solve nothing and write nothing (exit 0 if
+        /// the scene can run, 2 if not).
+        #[arg(long, conflicts_with_all = ["output", "json"])]
+        check: bool,
     },
 }
 
@@ -438,8 +443,24 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             output,
             json,
             quiet,
+            check,
         } => {
             let scene = Scene::load(&scene)?;
+            if check {
+                let (model, warnings, _) = pdcontact::run::check_scene(&scene)?;
+                if !quiet {
+                    for w in &warnings {
+                        eprintln!("warning: {w}");
+                    }
+                    eprintln!(
+                        "{}: ok ({} particles, {} bonds)",
+                        scene.source,
+                        model.particles(),
+                        model.bonds()
+                    );
+                }
+                return Ok(Outcome::Done);
+            }
             let options = RunOptions {
                 output,
                 quiet,

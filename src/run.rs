@@ -42,7 +42,9 @@ pub struct Outputs {
 pub struct RunSummary {
     pub scene: String,
     /// Warnings about the meshes (skipped element types, unused or duplicate nodes,
-    /// disconnected pieces), prefixed with the body's name, then about the contacts (a
+    /// disconnected pieces), prefixed with the body's name, then solver options that the
+    /// chosen solver ignores (`tolerance` in an explicit run, `dt` in ADR), then about the
+    /// contacts (a
     /// contact expected to span fewer than 3 particle spacings, uneven tributary areas where
     /// it will be), prefixed with the pair.
     pub warnings: Vec<String>,
@@ -174,19 +176,12 @@ fn patch_figures(model: &Model) -> (f64, f64) {
     }
 }
 
-/// Runs a scene; writes frames and `summary.json` into the output folder.
-pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSummary)> {
-    let start = Instant::now();
-    let folder = options
-        .output
-        .clone()
-        .unwrap_or_else(|| scene.resolve(&scene.output.folder));
-    // "dir/." reads badly in messages: drop "." components.
-    let folder: PathBuf = folder
-        .components()
-        .filter(|c| !matches!(c, std::path::Component::CurDir))
-        .collect();
-    let mut model = Model::from_scene(scene)?;
+/// Everything short of solving: the scene's model built (meshes read, particles, bonds,
+/// surfaces, contact pairs) and checked, with the warnings and contact estimates a run reports.
+/// `pdcontact run --check` stops here.
+pub fn check_scene(scene: &Scene) -> Result<(Model, Vec<String>, Vec<ContactResolution>)> {
+    let model = Model::from_scene(scene)?;
+    check_plane_sides(scene, &model)?;
     // What the importers and the quality checks found in the meshes, body by body.
     let mut warnings: Vec<String> = model
         .bodies
@@ -200,12 +195,77 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
                 .map(move |w| format!("body \"{}\": {w}", pd.name))
         })
         .collect();
+    // Solver options that the chosen solver ignores.
+    warnings.extend(scene.warnings());
     let contact_estimates = model.contact_resolution();
     warnings.extend(
         contact_estimates
             .iter()
             .flat_map(ContactResolution::warnings),
     );
+    Ok((model, warnings, contact_estimates))
+}
+
+/// A rigid plane whose normal points away from its slave body pushes the slave through itself:
+/// refused before solving when most of the slave's particles lie behind the plane.
+fn check_plane_sides(scene: &Scene, model: &Model) -> Result<()> {
+    for (k, c) in scene.contacts.iter().enumerate() {
+        let index = |name: &str| scene.bodies.iter().position(|b| b.name == name);
+        let (Some(s), Some(m)) = (index(&c.slave), index(&c.master)) else {
+            continue;
+        };
+        let is_plane = scene.bodies[m]
+            .generator
+            .as_ref()
+            .is_some_and(|g| g.shape == "plane");
+        let (Some(pd), Some(rb)) = (model.bodies[s].as_pd(), model.bodies[m].as_rigid()) else {
+            continue;
+        };
+        let (true, Some(face)) = (is_plane, rb.faces.first()) else {
+            continue;
+        };
+        // From the placed vertices: the plane may have been rotated after its faces were made.
+        let corners = face.nodes.map(|i| rb.vertices[i as usize]);
+        let (_, n) = crate::case::segments::quad_area_normal(corners);
+        let p = corners[0];
+        let x = &pd.case.particles.position;
+        let behind = x.iter().filter(|&&q| (q - p).dot(&n) < 0.0).count();
+        if 2 * behind > x.len() {
+            let (l, col) = scene
+                .text
+                .match_indices("[[contact]]")
+                .nth(k)
+                .map_or((1, 1), |(o, _)| crate::scene::line_col(&scene.text, o));
+            return Err(Error::input(format!(
+                "{}:{l}:{col}: contact pair \"{}\" / \"{}\": {behind} of {} particles of \"{}\" lie behind the plane \"{}\" (on the side its normal [{}, {}, {}] points away from): the normal must point out of the plane toward the slave; flip it",
+                scene.source,
+                c.slave,
+                c.master,
+                x.len(),
+                c.slave,
+                c.master,
+                crate::scene::num(n.x),
+                crate::scene::num(n.y),
+                crate::scene::num(n.z),
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Runs a scene; writes frames and `summary.json` into the output folder.
+pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSummary)> {
+    let start = Instant::now();
+    let folder = options
+        .output
+        .clone()
+        .unwrap_or_else(|| scene.resolve(&scene.output.folder));
+    // "dir/." reads badly in messages: drop "." components.
+    let folder: PathBuf = folder
+        .components()
+        .filter(|c| !matches!(c, std::path::Component::CurDir))
+        .collect();
+    let (mut model, warnings, contact_estimates) = check_scene(scene)?;
     if !options.quiet {
         for w in &warnings {
             eprintln!("warning: {w}");

@@ -199,7 +199,7 @@ fn material_constants() {
         "negative-e",
         &text,
         "youngs_modulus",
-        &["youngs_modulus", "positive", "-1000000000"],
+        &["youngs_modulus", "positive", "got -1e9"],
     );
     let text = GOOD.replace("youngs_modulus = 1e9", "youngs_modulus = 0.0");
     assert_error(
@@ -400,4 +400,64 @@ fn spacing_with_no_bonds_and_a_scene_without_load() {
     let (path, line) = error_of("no-load", &text);
     assert!(line.contains(&path), "{line}");
     assert!(line.contains("nothing loads the model"), "{line}");
+}
+
+#[test]
+fn check_builds_the_model_and_writes_nothing() {
+    let dir = temp_dir("check");
+    let scene = dir.join("scene.toml");
+    let text = GOOD.replace(
+        "max_iterations = 20000",
+        "max_iterations = 20000\ndt = 1e-6",
+    );
+    std::fs::write(&scene, &text).expect("write scene");
+    let out = Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+        .args(["run", "--check"])
+        .arg(&scene)
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("dt is ignored by the adr solver"), "{err}");
+    assert!(err.contains("ok (") && err.contains("particles"), "{err}");
+    assert!(!dir.join("out").exists(), "--check wrote output");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn scene_mistakes_found_by_the_check_exit_2() {
+    // A plane facing away from its slave: named with the pair, before solving.
+    assert_error(
+        "plane-backwards",
+        &GOOD.replace("normal = [0.0, 0.0, 1.0]", "normal = [0.0, 0.0, -1.0]"),
+        "[[contact]]",
+        &[
+            "contact pair \"block\" / \"floor\"",
+            "behind the plane \"floor\"",
+            "flip it",
+        ],
+    );
+    // Numerical failures before: max_iterations = 0, a symmetry plane listed twice.
+    assert_error(
+        "zero-iterations",
+        &GOOD.replace("max_iterations = 20000", "max_iterations = 0"),
+        "max_iterations",
+        &["max_iterations must be at least 1, got 0"],
+    );
+    let sym = "\n[[symmetry]]\nbody = \"block\"\naxis = \"x\"\nat = 0.5\n";
+    let text = format!("{GOOD}{sym}{sym}");
+    let (path, line) = error_of("symmetry-twice", &text);
+    let second = text.match_indices("[[symmetry]]").nth(1).unwrap().0;
+    let want = format!("error: {path}:{}:", text[..second].lines().count() + 1);
+    assert!(
+        line.starts_with(&want) && line.contains("listed twice"),
+        "{line}"
+    );
+    // "Too few iterations" before: a force of 1e300.
+    assert_error(
+        "huge-force",
+        &GOOD.replace("-1e5]", "-1e300]"),
+        "[[load]]",
+        &["at most 1e30 N", "-1e300"],
+    );
 }

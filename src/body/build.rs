@@ -34,11 +34,15 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
                         .map(|p| p.display().to_string())
                         .unwrap_or_default()
                 ),
-                &format!(
-                    "body \"{}\": mesh file {} does not exist",
-                    spec.name,
-                    path.display()
-                ),
+                &format!("body \"{}\": mesh file {} does not exist", spec.name, {
+                    // Whole where a path can be that long; a 100 kB one as an excerpt.
+                    let shown = path.display().to_string();
+                    if shown.chars().count() > 256 {
+                        crate::scene::excerpt(&shown)
+                    } else {
+                        shown
+                    }
+                }),
             ));
         }
         read_path(&path, format)?
@@ -79,7 +83,66 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
         unreachable!("a body without mesh or generator is refused by the scene")
     };
     transform(&mut mesh, spec);
+    check_size(scene, spec, &mesh)?;
     Ok(Some(mesh))
+}
+
+/// Body sizes that f64 holds with room to spare: element volumes go as L³ and bond stiffnesses
+/// as 1/δ⁴, so a femtometre to 1e15 m keeps every product far from over- and underflow (a
+/// `scale = 1e300` used to be reported as an inverted element of volume NaN).
+const BODY_SIZE: (f64, f64) = (1e-15, 1e15);
+
+/// Refuses a placed mesh whose coordinates are not finite or whose size is out of
+/// [`BODY_SIZE`]; and, when the body gives its spacing, one whose bonds cannot fit in memory.
+fn check_size(scene: &Scene, spec: &BodySpec, mesh: &Mesh) -> Result<()> {
+    let Some((lo, hi)) = mesh.bbox() else {
+        return Ok(());
+    };
+    let size = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+    let needle = if spec.scale.is_some() { "scale" } else { "" };
+    let finite = lo.iter().chain(&hi).all(|x| x.is_finite()) && size.is_finite();
+    if !finite || !(BODY_SIZE.0..=BODY_SIZE.1).contains(&size) {
+        return Err(scene.error_in_body(
+            &spec.name,
+            needle,
+            &format!(
+                "body \"{}\" is {} m across once placed (scale {}): bodies from {} to {} m are supported; check scale and the mesh's units",
+                spec.name,
+                crate::scene::num(size),
+                crate::scene::num(spec.scale.unwrap_or(1.0)),
+                crate::scene::num(BODY_SIZE.0),
+                crate::scene::num(BODY_SIZE.1)
+            ),
+        ));
+    }
+    // A given spacing sets the horizon: one far above the elements bonds every particle to
+    // every other, n² bonds.
+    if let (Some(dx), BodyKind::Deformable) = (spec.spacing, spec.kind) {
+        let n = mesh.solids().count() as f64;
+        let volume = (0..3)
+            .map(|k| (hi[k] - lo[k]).max(size * 1e-3))
+            .product::<f64>();
+        let m = spec.horizon_factor.unwrap_or(DEFAULT_HORIZON_FACTOR);
+        let bonds = (4.0 / 3.0 * std::f64::consts::PI * (m * dx).powi(3) * n / volume).min(n);
+        let bytes = n * (400.0 + 24.0 * bonds);
+        let limit = crate::scene::memory_limit();
+        if bytes > limit {
+            return Err(scene.error_in_body(
+                &spec.name,
+                "spacing",
+                &format!(
+                    "body \"{}\": spacing {} gives each of its {} particles about {} bonds, about {} GB of memory; the limit is {} GB (this machine's memory, or PDCONTACT_MEMORY_LIMIT): give a spacing near the mesh's element size",
+                    spec.name,
+                    crate::scene::num(dx),
+                    n,
+                    crate::scene::num(bonds.round()),
+                    crate::scene::num((bytes / 1e8).round() / 10.0),
+                    crate::scene::num((limit / 1e8).round() / 10.0)
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Applies scale, then rotation, then translation to a mesh.

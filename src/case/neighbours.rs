@@ -42,16 +42,29 @@ impl CellGrid {
             1.0
         };
         let limit = (8 * points.len()).max(4096) as f64;
+        // Counted in f64: a huge extent or a tiny cell (a scene's `size = 1e300` or
+        // `spacing = 1e-300`) must grow the cell, not overflow `usize`. An infinite or NaN
+        // extent counts as the largest finite one; the cell then grows until it covers it
+        // (at worst to infinity, where every point falls in the one cell).
+        let extent: [f64; 3] = std::array::from_fn(|k| {
+            let e = hi[k] - lo[k];
+            if e.is_finite() {
+                e
+            } else {
+                f64::MAX
+            }
+        });
         let dims = loop {
-            let d: [usize; 3] =
-                std::array::from_fn(|k| ((hi[k] - lo[k]) / cell).floor() as usize + 1);
-            if (d[0] as f64) * (d[1] as f64) * (d[2] as f64) <= limit {
-                break d;
+            // An overflowing quotient is infinite: more than the limit, so the cell grows.
+            let d: [f64; 3] = std::array::from_fn(|k| (extent[k] / cell).floor() + 1.0);
+            if d[0] * d[1] * d[2] <= limit {
+                break d.map(|n| n as usize);
             }
             cell *= 1.5;
         };
         let ncell = dims[0] * dims[1] * dims[2];
         let cell_of = |p: &Vec3| -> usize {
+            // `as usize` saturates (NaN gives 0), and `min` keeps the index in the grid.
             let i: [usize; 3] =
                 std::array::from_fn(|k| (((p[k] - lo[k]) / cell) as usize).min(dims[k] - 1));
             i[0] + dims[0] * (i[1] + dims[1] * i[2])
@@ -303,6 +316,43 @@ mod tests {
             for b in bonds.range(i) {
                 let j = bonds.partner[b] as usize;
                 assert!(bonds.partner[bonds.range(j)].contains(&(i as u32)));
+            }
+        }
+    }
+
+    #[test]
+    fn huge_extents_and_tiny_cells_grow_the_cell() {
+        // A plane of size 1e300, a mesh scaled by 1e300, a spacing of 1e-300: no overflow, and
+        // every point is still found from its own position.
+        for (pts, cell) in [
+            (
+                vec![Vec3::new(-5e299, 0.0, 0.0), Vec3::new(5e299, 1.0, 0.0)],
+                0.1,
+            ),
+            (
+                vec![
+                    Vec3::new(-1e307, -1e307, 0.0),
+                    Vec3::new(1e307, 1e307, 1e307),
+                ],
+                1.0,
+            ),
+            (vec![Vec3::zeros(), Vec3::new(1.0, 1.0, 1.0)], 1e-300),
+            (vec![Vec3::zeros(), Vec3::new(f64::INFINITY, 0.0, 0.0)], 1.0),
+        ] {
+            let grid = CellGrid::new(&pts, cell);
+            assert!(
+                grid.dims.iter().product::<usize>() <= 4096,
+                "{:?}",
+                grid.dims
+            );
+            for (i, p) in pts
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.iter().all(|x| x.is_finite()))
+            {
+                let mut found = false;
+                grid.for_each_candidate(p, cell, |j| found |= j as usize == i);
+                assert!(found, "point {i} of {pts:?} not found");
             }
         }
     }

@@ -12,7 +12,7 @@ use crate::contact::shortrange::ShortRangePass;
 use crate::contact::{hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::error::Result;
 use crate::math::{Vec3, NOT_A_PARTICLE};
-use crate::scene::{Axis, BodyKind, ContactMethod, Kinematics, PenaltyLaw, Scene};
+use crate::scene::{excerpt, Axis, BodyKind, ContactMethod, Kinematics, PenaltyLaw, Scene};
 
 /// Bodies and contact passes of a scene.
 #[derive(Clone, Debug)]
@@ -293,12 +293,21 @@ pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
 fn set_particles(scene: &Scene, pd: &PdBody, name: &str) -> Result<Vec<u32>> {
     let mesh = &pd.case.mesh;
     let Some(set) = mesh.set(name) else {
-        let known: Vec<&str> = mesh.sets.iter().map(|s| s.name.as_str()).collect();
+        let mut known: Vec<String> = mesh
+            .sets
+            .iter()
+            .take(10)
+            .map(|s| excerpt(&s.name))
+            .collect();
+        if mesh.sets.len() > 10 {
+            known.push(format!("and {} more", mesh.sets.len() - 10));
+        }
         return Err(scene.error_at(
             &format!("set = \"{name}\""),
             &format!(
-                "body \"{}\" has no set \"{name}\" (its sets: {})",
+                "body \"{}\" has no set \"{}\" (its sets: {})",
                 pd.name,
+                excerpt(name),
                 if known.is_empty() {
                     "none".to_string()
                 } else {
@@ -317,7 +326,8 @@ fn set_particles(scene: &Scene, pd: &PdBody, name: &str) -> Result<Vec<u32>> {
         return Err(scene.error_at(
             &format!("set = \"{name}\""),
             &format!(
-                "set \"{name}\" of body \"{}\" holds no particle (no corner node of a 3D element)",
+                "set \"{}\" of body \"{}\" holds no particle (no corner node of a 3D element)",
+                excerpt(name),
                 pd.name
             ),
         ));

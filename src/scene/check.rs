@@ -3,7 +3,11 @@
 
 use pdcontact_importers::Format;
 
-use super::{locate, locate_in_body, BodyKind, BodySpec, ContactMethod, Motion, Scene, SolverKind};
+use super::{
+    excerpt, locate, locate_in_body, num, BodyKind, BodySpec, ContactMethod, GeneratorSpec, Motion,
+    Scene, SolverKind,
+};
+use crate::case::DEFAULT_HORIZON_FACTOR;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
 
@@ -15,6 +19,14 @@ impl Scene {
             let (l, c) = at(needle);
             Error::input(format!("{}:{l}:{c}: {msg}", self.source))
         };
+        // An error at the `k`-th (0-based) block headed `header`.
+        let block_err = |header: &str, k: usize, msg: String| {
+            let (l, c) = text
+                .match_indices(header)
+                .nth(k)
+                .map_or_else(|| at(header), |(p, _)| super::line_col(text, p));
+            Error::input(format!("{}:{l}:{c}: {msg}", self.source))
+        };
         if self.bodies.is_empty() {
             return Err(err("", "the scene has no [[body]]".to_string()));
         }
@@ -24,6 +36,15 @@ impl Scene {
                 let (l, c) = locate_in_body(text, &b.name, needle);
                 Error::input(format!("{}:{l}:{c}: {msg}", self.source))
             };
+            if b.name.chars().count() > MAX_NAME_CHARS {
+                return Err(err(
+                    "name",
+                    format!(
+                        "body name \"{}\" is too long: at most {MAX_NAME_CHARS} characters",
+                        excerpt(&b.name)
+                    ),
+                ));
+            }
             if self.bodies[..k].iter().any(|o| o.name == b.name) {
                 return Err(err(&key, format!("two bodies are named \"{}\"", b.name)));
             }
@@ -56,7 +77,11 @@ impl Scene {
                     if !(v > 0.0 && v.is_finite()) {
                         return Err(err(
                             what,
-                            format!("body \"{}\": {what} must be positive, got {v}", b.name),
+                            format!(
+                                "body \"{}\": {what} must be positive, got {}",
+                                b.name,
+                                num(v)
+                            ),
                         ));
                     }
                 }
@@ -65,7 +90,7 @@ impl Scene {
                         "poisson_ratio",
                         format!(
                             "body \"{}\": bond-based peridynamics fixes Poisson's ratio at 0.25, got {} (use 0.25)",
-                            b.name, m.poisson_ratio
+                            b.name, num(m.poisson_ratio)
                         ),
                     ));
                 }
@@ -75,7 +100,11 @@ impl Scene {
                     if !(v > 0.0 && v.is_finite()) {
                         return Err(err(
                             what,
-                            format!("body \"{}\": {what} must be positive, got {v}", b.name),
+                            format!(
+                                "body \"{}\": {what} must be positive, got {}",
+                                b.name,
+                                num(v)
+                            ),
                         ));
                     }
                 }
@@ -89,7 +118,11 @@ impl Scene {
                     if !(v > 0.0 && v.is_finite()) {
                         return Err(err(
                             what,
-                            format!("body \"{}\": {what} must be positive, got {v}", b.name),
+                            format!(
+                                "body \"{}\": {what} must be positive, got {}",
+                                b.name,
+                                num(v)
+                            ),
                         ));
                     }
                 }
@@ -118,7 +151,8 @@ impl Scene {
                         "angle_deg",
                         format!(
                             "body \"{}\": rotate angle_deg must be finite, got {}",
-                            b.name, r.angle_deg
+                            b.name,
+                            num(r.angle_deg)
                         ),
                     ));
                 }
@@ -139,8 +173,11 @@ impl Scene {
                     return Err(err(
                         what,
                         format!(
-                            "body \"{}\": {what} must be three finite numbers, got {v:?}",
-                            b.name
+                            "body \"{}\": {what} must be three finite numbers, got [{}, {}, {}]",
+                            b.name,
+                            num(v[0]),
+                            num(v[1]),
+                            num(v[2])
                         ),
                     ));
                 }
@@ -158,7 +195,7 @@ impl Scene {
                 if m < 1.0 {
                     return Err(err(
                         "horizon_factor",
-                        format!("body \"{}\": horizon_factor must be at least 1 (a horizon shorter than the spacing holds no bonds), got {m}", b.name),
+                        format!("body \"{}\": horizon_factor must be at least 1 (a horizon shorter than the spacing holds no bonds), got {}", b.name, num(m)),
                     ));
                 }
             }
@@ -166,7 +203,7 @@ impl Scene {
                 if !(m > 0.0 && m.is_finite()) {
                     return Err(err(
                         "mass",
-                        format!("body \"{}\": mass must be positive, got {m}", b.name),
+                        format!("body \"{}\": mass must be positive, got {}", b.name, num(m)),
                     ));
                 }
             }
@@ -187,12 +224,17 @@ impl Scene {
             self.bodies
                 .iter()
                 .find(|b| b.name == name)
-                .ok_or_else(|| err(needle, format!("no body is named \"{name}\"")))
+                .ok_or_else(|| err(needle, format!("no body is named \"{}\"", excerpt(name))))
         };
-        for l in &self.loads {
+        for (k, l) in self.loads.iter().enumerate() {
             body(&l.body, &format!("body = \"{}\"", l.body))?;
-            if l.force.iter().any(|f| !f.is_finite()) {
-                return Err(err("force", "load force must be finite".to_string()));
+            if l.force.iter().any(|f| !(f.abs() <= MAX_FORCE)) {
+                let [x, y, z] = l.force.map(num);
+                return Err(block_err(
+                    "[[load]]",
+                    k,
+                    format!("load on \"{}\": force must be finite and at most {} N per component, got [{x}, {y}, {z}]", excerpt(&l.body), num(MAX_FORCE)),
+                ));
             }
         }
         for c in &self.constraints {
@@ -204,8 +246,25 @@ impl Scene {
                 ));
             }
         }
-        for s in &self.symmetries {
+        for (k, s) in self.symmetries.iter().enumerate() {
             let b = body(&s.body, &format!("body = \"{}\"", s.body))?;
+            if let Some(first) = self.symmetries[..k]
+                .iter()
+                .position(|o| o.body == s.body && o.axis == s.axis && o.at == s.at)
+            {
+                return Err(block_err(
+                    "[[symmetry]]",
+                    k,
+                    format!(
+                        "body \"{}\": the symmetry plane {} = {} is listed twice ([[symmetry]] blocks {} and {}): keep one",
+                        s.body,
+                        s.axis.name(),
+                        num(s.at),
+                        first + 1,
+                        k + 1
+                    ),
+                ));
+            }
             if b.kind == BodyKind::Rigid {
                 return Err(err(
                     "axis",
@@ -216,14 +275,34 @@ impl Scene {
                 ));
             }
         }
-        for c in &self.contacts {
+        for (k, c) in self.contacts.iter().enumerate() {
+            let same = |o: &super::ContactSpec| {
+                (o.slave == c.slave && o.master == c.master)
+                    || ((o.two_pass || c.two_pass) && o.slave == c.master && o.master == c.slave)
+            };
+            if let Some(first) = self.contacts[..k].iter().position(same) {
+                return Err(block_err(
+                    "[[contact]]",
+                    k,
+                    format!(
+                        "the contact pair \"{}\" / \"{}\" is listed twice ([[contact]] blocks {} and {}): its penalty would act twice; keep one (two_pass = true checks both ways)",
+                        excerpt(&c.slave),
+                        excerpt(&c.master),
+                        first + 1,
+                        k + 1
+                    ),
+                ));
+            }
             let s = body(&c.slave, &format!("slave = \"{}\"", c.slave))?;
             body(&c.master, &format!("master = \"{}\"", c.master))?;
             if let Some(r) = c.radius {
                 if !(r > 0.0 && r.is_finite()) {
                     return Err(err(
                         "radius",
-                        format!("contact radius (the Hertz penalty's R) must be positive, got {r}"),
+                        format!(
+                            "contact radius (the Hertz penalty's R) must be positive, got {}",
+                            num(r)
+                        ),
                     ));
                 }
             }
@@ -269,9 +348,15 @@ impl Scene {
                     if !(t > 0.0 && t < 1.0) {
                         return Err(err(
                             "tolerance",
-                            format!("tolerance must be in (0, 1), got {t}"),
+                            format!("tolerance must be in (0, 1), got {}", num(t)),
                         ));
                     }
+                }
+                if self.solver.max_iterations == Some(0) {
+                    return Err(err(
+                        "max_iterations",
+                        "max_iterations must be at least 1, got 0".to_string(),
+                    ));
                 }
                 if self.solver.load_steps == Some(0) {
                     return Err(err(
@@ -288,14 +373,14 @@ impl Scene {
                     Some(t) if !(t > 0.0 && t.is_finite()) => {
                         return Err(err(
                             "end_time",
-                            format!("end_time must be positive, got {t}"),
+                            format!("end_time must be positive, got {}", num(t)),
                         ))
                     }
                     _ => {}
                 }
                 if let Some(dt) = self.solver.dt {
                     if !(dt > 0.0 && dt.is_finite()) {
-                        return Err(err("dt", format!("dt must be positive, got {dt}")));
+                        return Err(err("dt", format!("dt must be positive, got {}", num(dt))));
                     }
                 }
             }
@@ -307,6 +392,154 @@ impl Scene {
     }
 }
 
+/// Longest body name: names are repeated in messages and output files.
+const MAX_NAME_CHARS: usize = 64;
+
+/// Largest load component, N. Far beyond any physical load (the weight of Mount Everest is
+/// about 1e15 N), while leaving f64 room for the squares and sums of forces that the solvers
+/// form (a force of 1e300 overflows them and used to be reported as "too few iterations").
+const MAX_FORCE: f64 = 1e30;
+
+impl Scene {
+    /// Options that the chosen solver ignores: harmless, so warnings rather than errors.
+    pub fn warnings(&self) -> Vec<String> {
+        let s = &self.solver;
+        let (kind, ignored): (&str, Vec<(&str, bool)>) = match s.kind {
+            SolverKind::Adr => (
+                "adr",
+                vec![
+                    ("dt", s.dt.is_some()),
+                    ("safety", s.safety.is_some()),
+                    ("end_time", s.end_time.is_some()),
+                    ("damping", s.damping.is_some()),
+                    ("stop_after_rebound", s.stop_after_rebound),
+                ],
+            ),
+            SolverKind::Explicit => (
+                "explicit",
+                vec![
+                    ("tolerance", s.tolerance.is_some()),
+                    ("max_iterations", s.max_iterations.is_some()),
+                    ("load_steps", s.load_steps.is_some()),
+                ],
+            ),
+        };
+        ignored
+            .into_iter()
+            .filter(|(_, given)| *given)
+            .map(|(key, _)| {
+                let (l, c) = solver_key(&self.text, key);
+                format!(
+                    "{}:{l}:{c}: [solver] {key} is ignored by the {kind} solver",
+                    self.source
+                )
+            })
+            .collect()
+    }
+}
+
+/// Line and column of the line of `[solver]` that sets `key` (`dt` is also in `half_width`).
+fn solver_key(text: &str, key: &str) -> (usize, usize) {
+    let mut in_solver = false;
+    for (k, line) in text.lines().enumerate() {
+        let t = line.trim_start();
+        if t.starts_with('[') {
+            in_solver = t.starts_with("[solver]");
+        } else if in_solver
+            && t.strip_prefix(key)
+                .is_some_and(|r| r.trim_start().starts_with('='))
+        {
+            return (k + 1, line.len() - t.len() + 1);
+        }
+    }
+    locate(text, key)
+}
+
+/// Bytes that `particles` PD particles with horizon factor `m` take, roughly: per particle
+/// about 400 B of state (a dozen 3-vectors, volumes, masks, correction factors), and per bond
+/// 24 B (partner, length, state) times the `4/3 π m³` bonds of a lattice particle.
+pub(crate) fn memory_bytes(particles: f64, m: f64) -> f64 {
+    particles * (400.0 + 24.0 * 4.0 / 3.0 * std::f64::consts::PI * m.powi(3))
+}
+
+/// The most memory a model may need, bytes: `PDCONTACT_MEMORY_LIMIT` (bytes) where set, else
+/// this machine's memory (`/proc/meminfo`; 64 GiB where it cannot be read).
+pub(crate) fn memory_limit() -> f64 {
+    if let Some(b) = std::env::var("PDCONTACT_MEMORY_LIMIT")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|b| *b > 0.0)
+    {
+        return b;
+    }
+    std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("MemTotal:"))
+                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
+        .map_or(64.0 * (1u64 << 30) as f64, |kb| kb * 1024.0)
+}
+
+/// "12.3 GB".
+fn gigabytes(bytes: f64) -> String {
+    format!("{} GB", count(bytes / 1e9))
+}
+
+/// A count as a message shows it: "about 4.19e9", "about 720", or "more than 1e308" where
+/// f64 overflowed.
+fn count(x: f64) -> String {
+    if !x.is_finite() {
+        "more than 1e308".to_string()
+    } else if x >= 1e4 {
+        format!("about {x:.2e}")
+    } else {
+        format!("about {}", num((x * 10.0).round() / 10.0))
+    }
+}
+
+/// The keys each generator shape reads; any other is refused.
+fn shape_keys(shape: &str) -> Option<&'static [&'static str]> {
+    Some(match shape {
+        "sphere" => &["radius", "spacing", "center"],
+        "cylinder" => &["radius", "length", "spacing", "center"],
+        "box" => &["min", "max", "spacing"],
+        "sphere_cap" => &["radius", "half_width", "depth", "spacing", "center"],
+        "cylinder_cap" => &[
+            "radius",
+            "half_width",
+            "depth",
+            "length",
+            "spacing",
+            "center",
+        ],
+        "plane" => &["point", "normal", "size", "divisions"],
+        _ => return None,
+    })
+}
+
+/// The optional keys a generator gives.
+fn given_keys(g: &GeneratorSpec) -> Vec<&'static str> {
+    [
+        ("radius", g.radius.is_some()),
+        ("length", g.length.is_some()),
+        ("spacing", g.spacing.is_some()),
+        ("min", g.min.is_some()),
+        ("max", g.max.is_some()),
+        ("point", g.point.is_some()),
+        ("normal", g.normal.is_some()),
+        ("size", g.size.is_some()),
+        ("divisions", g.divisions.is_some()),
+        ("center", g.center.is_some()),
+        ("half_width", g.half_width.is_some()),
+        ("depth", g.depth.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(k, given)| given.then_some(k))
+    .collect()
+}
+
 /// The checks of a body's mesh or built-in shape that need no file: the mesh format's name,
 /// the generator's dimensions, a plane's point, normal and size. `err` points at a key of the
 /// body.
@@ -315,13 +548,40 @@ fn check_shape(b: &BodySpec, err: &dyn Fn(&str, String) -> Error) -> Result<()> 
         if Format::from_name(f).is_none() {
             return Err(err(
                 "format",
-                format!("unknown mesh format \"{f}\": use cdb, msh or inp"),
+                format!(
+                    "unknown mesh format \"{}\": use cdb, msh or inp",
+                    excerpt(f)
+                ),
             ));
         }
     }
     let Some(g) = &b.generator else {
         return Ok(());
     };
+    if let Some(keys) = shape_keys(&g.shape) {
+        if let Some(k) = given_keys(g).into_iter().find(|k| !keys.contains(k)) {
+            let hint = if k == "spacing" && g.shape == "plane" {
+                " (a rigid plane has no particles)"
+            } else {
+                ""
+            };
+            return Err(err(
+                k,
+                format!(
+                    "body \"{}\": generator \"{}\" does not use `{k}`{hint}; it takes {}",
+                    b.name,
+                    g.shape,
+                    keys.join(", ")
+                ),
+            ));
+        }
+    }
+    if g.divisions == Some(0) {
+        return Err(err(
+            "divisions",
+            format!("body \"{}\": divisions must be at least 1, got 0", b.name),
+        ));
+    }
     let need = |v: Option<f64>, what: &str| {
         v.filter(|x| *x > 0.0 && x.is_finite()).ok_or_else(|| {
             err(
@@ -334,24 +594,31 @@ fn check_shape(b: &BodySpec, err: &dyn Fn(&str, String) -> Error) -> Result<()> 
         })
     };
     let spacing = g.spacing.or(b.spacing);
-    match g.shape.as_str() {
+    // Volume of a solid shape, m³, for the particle count; a plane returns when checked.
+    let volume = match g.shape.as_str() {
         "sphere" => {
-            need(g.radius, "radius")?;
+            let r = need(g.radius, "radius")?;
             need(spacing, "spacing")?;
+            4.0 / 3.0 * std::f64::consts::PI * r.powi(3)
         }
         "cylinder" => {
-            need(g.radius, "radius")?;
-            need(g.length, "length")?;
+            let r = need(g.radius, "radius")?;
+            let l = need(g.length, "length")?;
             need(spacing, "spacing")?;
+            std::f64::consts::PI * r * r * l
         }
         "box" => {
             let (Some(lo), Some(hi)) = (box_corner(&g.min), box_corner(&g.max)) else {
                 return Err(err("generator", format!("body \"{}\": a box needs min and max, three numbers each", b.name)));
             };
+            if lo.iter().chain(&hi).any(|x| !x.is_finite()) {
+                return Err(err("generator", format!("body \"{}\": box min and max must be finite numbers", b.name)));
+            }
             if (0..3).any(|k| hi[k] <= lo[k]) {
                 return Err(err("generator", format!("body \"{}\": box max must exceed min on every axis", b.name)));
             }
             need(spacing, "spacing")?;
+            (0..3).map(|k| hi[k] - lo[k]).product()
         }
         "sphere_cap" | "cylinder_cap" => {
             let r = need(g.radius, "radius")?;
@@ -363,10 +630,13 @@ fn check_shape(b: &BodySpec, err: &dyn Fn(&str, String) -> Error) -> Result<()> 
             if depth >= r {
                 return Err(err("depth", format!("body \"{}\": a cap's depth must be less than its radius", b.name)));
             }
-            if g.shape == "cylinder_cap" {
-                need(g.length, "length (the slice thickness along y)")?;
-            }
             need(spacing, "spacing")?;
+            if g.shape == "cylinder_cap" {
+                let l = need(g.length, "length (the slice thickness along y)")?;
+                2.0 * half_width * l * depth
+            } else {
+                4.0 * half_width * half_width * depth
+            }
         }
         "plane" => {
             if b.kind == BodyKind::Deformable {
@@ -384,22 +654,62 @@ fn check_shape(b: &BodySpec, err: &dyn Fn(&str, String) -> Error) -> Result<()> 
                     ),
                 ));
             };
-            if !(Vec3::from(normal).norm() > 0.0) || !(size > 0.0) {
+            if !(Vec3::from(normal).norm() > 0.0 && size > 0.0 && size.is_finite()) {
                 return Err(err(
                     "plane",
                     format!(
-                        "body \"{}\": plane normal and size must be non-zero",
-                        b.name
+                        "body \"{}\": plane normal must be non-zero and size positive, got size {}",
+                        b.name,
+                        num(size)
                     ),
                 ));
             }
+            // (d+1)² vertices of 24 B and d² faces of 48 B (nodes, area, normal).
+            let d = g.divisions.unwrap_or(1) as f64;
+            let bytes = (d + 1.0).powi(2) * 24.0 + d * d * 48.0;
+            let limit = memory_limit();
+            if bytes > limit {
+                return Err(err(
+                    "divisions",
+                    format!(
+                        "body \"{}\": divisions = {} makes {} faces, {} of memory; the limit is {} (this machine's memory, or PDCONTACT_MEMORY_LIMIT)",
+                        b.name,
+                        g.divisions.unwrap_or(1),
+                        num(d * d),
+                        gigabytes(bytes),
+                        gigabytes(limit)
+                    ),
+                ));
+            }
+            return Ok(());
         }
         other => {
             return Err(err(
                 "shape",
-                format!("body \"{}\": unknown generator shape \"{other}\" (sphere, cylinder, box, sphere_cap, cylinder_cap, plane)", b.name),
+                format!("body \"{}\": unknown generator shape \"{}\" (sphere, cylinder, box, sphere_cap, cylinder_cap, plane)", b.name, excerpt(other)),
             ))
         }
+    };
+    // Refused before the generator allocates: more particles than 32-bit indices hold, or
+    // than this machine's memory.
+    let dx = spacing.expect("spacing checked above");
+    let particles = volume / dx.powi(3);
+    let m = b.horizon_factor.unwrap_or(DEFAULT_HORIZON_FACTOR);
+    let bytes = memory_bytes(particles, m);
+    let limit = memory_limit();
+    if !(particles < u32::MAX as f64 && bytes <= limit) {
+        return Err(err(
+            "spacing",
+            format!(
+                "body \"{}\": spacing {} makes {} particles, {} of memory (horizon factor {}); the limit is {} (this machine's memory, or PDCONTACT_MEMORY_LIMIT): raise the spacing",
+                b.name,
+                num(dx),
+                count(particles),
+                gigabytes(bytes),
+                num(m),
+                gigabytes(limit)
+            ),
+        ));
     }
     Ok(())
 }

@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 
 mod check;
 
-pub(crate) use check::box_corner;
+pub(crate) use check::{box_corner, memory_limit};
 
 use crate::case::correction::CorrectionMethod;
 use crate::error::{Error, Result};
@@ -403,7 +403,7 @@ impl Scene {
     pub fn parse(text: &str, source: &str, base: &Path) -> Result<Scene> {
         let mut scene: Scene = toml::from_str(text).map_err(|e| {
             let (line, col) = e.span().map(|s| line_col(text, s.start)).unwrap_or((0, 0));
-            let msg = e.message().replace('\n', " ");
+            let msg = short_message(&e.message().replace('\n', " "));
             Error::input(format!("{source}:{line}:{col}: {msg}"))
         })?;
         scene.base = base.to_path_buf();
@@ -436,8 +436,64 @@ impl Scene {
     }
 }
 
+/// Longest excerpt of a scene's value that a message repeats (a 100 kB bad value is named by
+/// its first characters, not printed whole).
+pub(crate) const EXCERPT_CHARS: usize = 40;
+
+/// `s`, or its first [`EXCERPT_CHARS`] characters and how long it is.
+pub fn excerpt(s: &str) -> String {
+    let n = s.chars().count();
+    if n <= EXCERPT_CHARS {
+        s.to_string()
+    } else {
+        let head: String = s.chars().take(EXCERPT_CHARS).collect();
+        format!("{head}… ({n} characters)")
+    }
+}
+
+/// A number as a message shows it: plainly between 1e-4 and 1e6, else in short exponent form
+/// (`1e-300`, not 300 digits).
+pub fn num(v: f64) -> String {
+    let v = v + 0.0; // -0 as 0
+    let a = v.abs();
+    if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// A parse error's message with every long word cut to an excerpt (toml repeats a bad value,
+/// however long) and the whole held to a few lines.
+fn short_message(msg: &str) -> String {
+    let words: Vec<String> = msg
+        .split(' ')
+        .map(|w| {
+            // A long number (toml writes 1e300 in 301 digits) in short form.
+            let core = w.trim_matches(|c: char| "`'\",;:()".contains(c));
+            if core.len() > 20 {
+                if let Ok(v) = core.parse::<f64>() {
+                    return w.replace(core, &num(v));
+                }
+            }
+            if w.chars().count() > EXCERPT_CHARS + 2 {
+                excerpt(w)
+            } else {
+                w.to_string()
+            }
+        })
+        .collect();
+    let out = words.join(" ");
+    if out.chars().count() > 400 {
+        let head: String = out.chars().take(400).collect();
+        format!("{head}…")
+    } else {
+        out
+    }
+}
+
 /// 1-based line and column of a byte offset.
-fn line_col(text: &str, offset: usize) -> (usize, usize) {
+pub(crate) fn line_col(text: &str, offset: usize) -> (usize, usize) {
     let before = &text[..offset.min(text.len())];
     let line = before.matches('\n').count() + 1;
     let col = before
@@ -566,5 +622,94 @@ master = "plane"
         );
         let e = error_of(&GOOD.replace("master = \"plane\"", "master = \"floor\""));
         assert!(e.contains("no body is named \"floor\""), "{e}");
+    }
+
+    #[test]
+    fn scene_mistakes_are_input_errors_that_name_the_key() {
+        let cases: Vec<(String, &[&str])> = vec![
+            // Keys a shape does not use, and no quads.
+            (
+                GOOD.replace("size = 4.0 }", "size = 4.0, spacing = 0.1 }"),
+                &[":16:", "does not use `spacing`"],
+            ),
+            (
+                GOOD.replace("size = 4.0 }", "size = 4.0, radius = 1.0 }"),
+                &["does not use `radius`"],
+            ),
+            (
+                GOOD.replace("spacing = 0.2 }", "spacing = 0.2, size = 1.0 }"),
+                &["generator \"sphere\" does not use `size`"],
+            ),
+            (
+                GOOD.replace("size = 4.0 }", "size = 4.0, divisions = 0 }"),
+                &["divisions must be at least 1, got 0"],
+            ),
+            // Sizes that cannot fit: refused before allocating, with what they would need.
+            (
+                GOOD.replace("size = 4.0 }", "size = 4.0, divisions = 100000 }"),
+                &["1e10 faces", "720 GB"],
+            ),
+            (
+                GOOD.replace("spacing = 0.2 }", "spacing = 1e-300 }"),
+                &[":7:", "spacing 1e-300 makes more than 1e308 particles", "GB of memory"],
+            ),
+            (GOOD.replace("kind = \"adr\"", "kind = \"adr\"\nmax_iterations = 0"), &[":4:1:", "max_iterations must be at least 1"]),
+            (
+                GOOD.replace("-1e6]", "-1e300]"),
+                &[":18:1:", "at most 1e30 N", "-1e300"],
+            ),
+            (
+                format!("{GOOD}\n[[contact]]\nslave = \"ball\"\nmaster = \"plane\"\n"),
+                &[":26:1:", "listed twice ([[contact]] blocks 1 and 2)"],
+            ),
+            (
+                format!("{GOOD}\n[[symmetry]]\nbody = \"ball\"\naxis = \"x\"\n[[symmetry]]\nbody = \"ball\"\naxis = \"x\"\n"),
+                &[":29:1:", "x = 0 is listed twice"],
+            ),
+            // Values are repeated short: excerpts and exponents.
+            (
+                GOOD.replace("\"sphere\"", &format!("\"{}\"", "s".repeat(100_000))),
+                &["(100000 characters)"],
+            ),
+            (
+                GOOD.replace("density = 1000.0", "density = -1e-300"),
+                &["got -1e-300"],
+            ),
+        ];
+        for (text, wants) in cases {
+            let e = error_of(&text);
+            assert!(e.len() < 400, "{} chars: {}", e.len(), &e[..400]);
+            for w in wants {
+                assert!(e.contains(w), "{w:?} not in {e}");
+            }
+        }
+    }
+
+    #[test]
+    fn options_the_solver_ignores_are_warnings() {
+        let s = parse(&GOOD.replace("kind = \"adr\"", "kind = \"adr\"\ndt = 1e-6")).unwrap();
+        assert_eq!(
+            s.warnings(),
+            ["scene.toml:4:1: [solver] dt is ignored by the adr solver"]
+        );
+        let s = parse(&GOOD.replace(
+            "kind = \"adr\"",
+            "kind = \"explicit\"\nend_time = 1e-3\ntolerance = 1e-4",
+        ))
+        .unwrap();
+        assert_eq!(
+            s.warnings(),
+            ["scene.toml:5:1: [solver] tolerance is ignored by the explicit solver"]
+        );
+        assert!(parse(GOOD).unwrap().warnings().is_empty());
+    }
+
+    #[test]
+    fn numbers_print_short() {
+        assert_eq!(num(1e-300), "1e-300");
+        assert_eq!(num(-0.0), "0");
+        assert_eq!(num(0.25), "0.25");
+        assert_eq!(num(3.84e7), "3.84e7");
+        assert_eq!(excerpt("abc"), "abc");
     }
 }
