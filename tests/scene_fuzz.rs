@@ -6,8 +6,8 @@
 //! refused as bad input (exit code 2) with a short message: no panic, no abort, no numerical
 //! failure, no message that repeats a 100 kB value or prints a 300-digit number.
 //!
-//! The demo scene runs on the coarser sphere mesh meshes/sphere_r1_d012.msh (same radius) to
-//! keep the test short.
+//! The demo scene runs on the whole coarse sphere meshes/sphere_r1_d012.msh (same radius, no
+//! quarter set or symmetry planes) to keep the test short.
 //!
 //! `PDCONTACT_MEMORY_LIMIT` holds models to 300 MB, so that a mutation that asks for a large
 //! but possible model (a flipped digit in a spacing) is refused by the memory check instead of
@@ -309,8 +309,8 @@ fn mutated_scenes_are_accepted_or_refused_never_crash() {
     // Keep the panic hook quiet: every panic is caught and reported below.
     std::panic::set_hook(Box::new(|_| {}));
     let dir = temp_dir("mutations");
-    // The demo scene as `pdcontact demo` writes it, on the coarser cubed sphere of the same
-    // radius (about a quarter of the particles), to keep the test short.
+    // The demo scene as `pdcontact demo` writes it, on the coarse cubed sphere of the same
+    // radius, to keep the test short.
     let coarse = "sphere_r1_d012.msh";
     std::fs::copy(
         Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -319,8 +319,16 @@ fn mutated_scenes_are_accepted_or_refused_never_crash() {
         dir.join(coarse),
     )
     .unwrap();
-    let demo_scene = demo::scene_text().replace(scenarios::SPHERE_MESH_NAME, coarse);
+    let demo_scene = demo::scene_text().replace(demo::DEMO_MESH_NAME, coarse);
     assert!(demo_scene.contains(coarse));
+    // The demo's quarter shell would take seconds per mutant: the same scene on a whole sphere,
+    // without the quarter's set and symmetry planes.
+    let demo_scene = demo_scene
+        .replace("set = \"top\"", "")
+        .split("[[symmetry]]")
+        .next()
+        .expect("scene")
+        .to_string();
     let validation = scenarios::hertz_sphere_case(2.0).scene;
     let mut failures = Vec::new();
     for (name, seed, rng_seed) in [
