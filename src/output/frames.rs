@@ -247,6 +247,16 @@ impl FrameWriter {
                                 .collect(),
                         ),
                         Field::vector("normal", pd.case.surface.normal.clone()),
+                        // The mesh's own boundary nodes, beside the eigenvalue surface.
+                        Field::int(
+                            "boundary_node",
+                            pd.case
+                                .segments
+                                .boundary_node
+                                .iter()
+                                .map(|&b| b as i32)
+                                .collect(),
+                        ),
                         Field::int("body", vec![k as i32; n]),
                         Field::scalar("volume", pd.case.particles.volume.clone()),
                     ];
