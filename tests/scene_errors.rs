@@ -461,3 +461,48 @@ fn scene_mistakes_found_by_the_check_exit_2() {
         &["at most 1e30 N", "-1e300"],
     );
 }
+
+/// A loaded body that nothing holds: its path misses the plane (moved aside), the plane lies
+/// behind its load (above it), or it is in no contact pair. Refused before solving, naming
+/// the body's line and the direction of its loads, instead of relaxing to the iteration limit.
+#[test]
+fn a_loaded_body_that_nothing_holds_is_refused() {
+    let beside = GOOD.replace("point = [0.0, 0.0, -0.01]", "point = [5.0, 0.0, -0.01]");
+    let above = GOOD.replace(
+        "point = [0.0, 0.0, -0.01], normal = [0.0, 0.0, 1.0]",
+        "point = [0.0, 0.0, 0.6], normal = [0.0, 0.0, -1.0]",
+    );
+    let free = GOOD.split("[[contact]]").next().expect("scene").to_string();
+    for (case, text, why) in [
+        ("beside", &beside, "meets no plane"),
+        ("above", &above, "meets no plane"),
+        ("free", &free, "in no contact pair"),
+    ] {
+        let (path, line) = error_of(&format!("held-{case}"), text);
+        assert!(
+            line.contains(&format!(
+                "{path}:{}:1:",
+                line_of(text, "name = \"block\"") - 1
+            )) && line.contains("body \"block\" is pushed along [0, 0, -1]")
+                && line.contains(why),
+            "{case}: {line}"
+        );
+    }
+    // Held by a constraint instead: accepted (the check, not a solve).
+    let fixed = format!(
+        "{free}\n[[constraint]]\nbody = \"block\"\nset = \"bottom\"\nfix = [\"x\", \"y\", \"z\"]\n"
+    );
+    let dir = temp_dir("held-fixed");
+    std::fs::write(dir.join("scene.toml"), &fixed).expect("write scene");
+    let out = Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+        .args(["run", "--check"])
+        .arg(dir.join("scene.toml"))
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
