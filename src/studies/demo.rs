@@ -68,6 +68,13 @@ body = "ball"
 set = "top"                # the shell's inner face, where the rest of the sphere would push
 force = [0.0, 0.0, -{quarter:e}]   # a quarter of P = {p:e} N: the model is a quarter
 
+[[contact]]
+slave = "ball"
+master = "plane"
+radius = 100.0             # R of the Hertz penalty K = 4/3 E* sqrt(R): far stiffer than the
+                           # default R = Δ/2, so that the penetration stays far below the
+                           # approach and adds no compliance that Hertz does not have
+
 [[symmetry]]               # the mirror images across x = 0 and y = 0 complete the sphere's
 body = "ball"              # neighbourhoods, so the quarter behaves as the whole
 axis = "x"
@@ -75,13 +82,6 @@ axis = "x"
 [[symmetry]]
 body = "ball"
 axis = "y"
-
-[[contact]]
-slave = "ball"
-master = "plane"
-radius = 100.0             # R of the Hertz penalty K = 4/3 E* sqrt(R): far stiffer than the
-                           # default R = Δ/2, so that the penetration stays far below the
-                           # approach and adds no compliance that Hertz does not have
 "#,
         mesh = DEMO_MESH_NAME,
         e = YOUNGS,
