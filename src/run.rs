@@ -232,14 +232,11 @@ fn check_plane_sides(scene: &Scene, model: &Model) -> Result<()> {
         let x = &pd.case.particles.position;
         let behind = x.iter().filter(|&&q| (q - p).dot(&n) < 0.0).count();
         if 2 * behind > x.len() {
-            let (l, col) = scene
-                .text
-                .match_indices("[[contact]]")
-                .nth(k)
-                .map_or((1, 1), |(o, _)| crate::scene::line_col(&scene.text, o));
-            return Err(Error::input(format!(
-                "{}:{l}:{col}: contact pair \"{}\" / \"{}\": {behind} of {} particles of \"{}\" lie behind the plane \"{}\" (on the side its normal [{}, {}, {}] points away from): the normal must point out of the plane toward the slave; flip it",
-                scene.source,
+            return Err(scene.block_error(
+                "[[contact]]",
+                k,
+                format!(
+                "contact pair \"{}\" / \"{}\": {behind} of {} particles of \"{}\" lie behind the plane \"{}\" (on the side its normal [{}, {}, {}] points away from): the normal must point out of the plane toward the slave; flip it",
                 c.slave,
                 c.master,
                 x.len(),
@@ -248,7 +245,8 @@ fn check_plane_sides(scene: &Scene, model: &Model) -> Result<()> {
                 crate::scene::num(n.x),
                 crate::scene::num(n.y),
                 crate::scene::num(n.z),
-            )));
+                ),
+            ));
         }
     }
     Ok(())
@@ -326,11 +324,6 @@ fn check_held(scene: &Scene, model: &Model) -> Result<()> {
             })
         });
         if !held {
-            let (l, col) = scene
-                .text
-                .match_indices("[[body]]")
-                .nth(b)
-                .map_or((1, 1), |(o, _)| crate::scene::line_col(&scene.text, o));
             let why = if planes.is_empty() {
                 "no constraint holds it and it is in no contact pair".to_string()
             } else {
@@ -340,14 +333,17 @@ fn check_held(scene: &Scene, model: &Model) -> Result<()> {
                     names.join(", ")
                 )
             };
-            return Err(Error::input(format!(
-                "{}:{l}:{col}: body \"{}\" is pushed along [{}, {}, {}] by its loads, but {why}: a quasi-static run has no equilibrium; add a constraint, or a contact in that direction",
-                scene.source,
+            return Err(scene.block_error(
+                "[[body]]",
+                b,
+                format!(
+                "body \"{}\" is pushed along [{}, {}, {}] by its loads, but {why}: a quasi-static run has no equilibrium; add a constraint, or a contact in that direction",
                 spec.name,
                 crate::scene::num(d.x),
                 crate::scene::num(d.y),
                 crate::scene::num(d.z),
-            )));
+                ),
+            ));
         }
     }
     Ok(())

@@ -20,13 +20,7 @@ impl Scene {
             Error::input(format!("{}:{l}:{c}: {msg}", self.source))
         };
         // An error at the `k`-th (0-based) block headed `header`.
-        let block_err = |header: &str, k: usize, msg: String| {
-            let (l, c) = text
-                .match_indices(header)
-                .nth(k)
-                .map_or_else(|| at(header), |(p, _)| super::line_col(text, p));
-            Error::input(format!("{}:{l}:{c}: {msg}", self.source))
-        };
+        let block_err = |header: &str, k: usize, msg: String| self.block_error(header, k, msg);
         if self.bodies.is_empty() {
             return Err(err("", "the scene has no [[body]]".to_string()));
         }

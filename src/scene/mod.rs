@@ -451,6 +451,20 @@ pub fn excerpt(s: &str) -> String {
     }
 }
 
+impl Scene {
+    /// An input error at the `k`-th (0-based) block of the scene text headed `header`
+    /// (`[[body]]`, `[[contact]]`, …): "file:line:column: msg".
+    pub fn block_error(&self, header: &str, k: usize, msg: String) -> Error {
+        let (l, c) = self
+            .text
+            .match_indices(header)
+            .nth(k)
+            .or_else(|| self.text.match_indices(header).next())
+            .map_or((1, 1), |(p, _)| line_col(&self.text, p));
+        Error::input(format!("{}:{l}:{c}: {msg}", self.source))
+    }
+}
+
 /// A number as a message shows it: plainly between 1e-4 and 1e6, else in short exponent form
 /// (`1e-300`, not 300 digits).
 pub fn num(v: f64) -> String {
