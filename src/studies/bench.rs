@@ -80,6 +80,9 @@ pub struct BenchReport {
     pub energy_drift: f64,
     /// Bytes the bond arrays hold per directed bond (partner, length, weight, offsets).
     pub bytes_per_bond: f64,
+    /// Force-buffer entries the threads clear and sum per particle and pass: `1 + h`, with `h`
+    /// the halo share (partners in other threads' ranges); 1 on one thread.
+    pub buffer_entries_per_particle: f64,
 }
 
 impl BenchReport {
@@ -114,6 +117,10 @@ impl BenchReport {
                 format!("{:.4e}", self.bond_updates_per_second),
             ),
             ("bytes per bond".into(), format!("{:.1}", self.bytes_per_bond)),
+            (
+                "force-buffer entries per particle".into(),
+                format!("{:.3}", self.buffer_entries_per_particle),
+            ),
             ("peak RSS (MB)".into(), rss),
             (
                 "energy (J) before / after".into(),
@@ -258,15 +265,15 @@ fn run_in_pool(spec: &LatticeSphere) -> BenchReport {
         final_energy,
         energy_drift: (final_energy - initial_energy).abs() / initial_energy.abs(),
         bytes_per_bond: bond_bytes as f64 / directed.max(1) as f64,
+        buffer_entries_per_particle: buffers.written_blocks_per_block(),
     }
 }
 
 /// Kinetic energy `Σ ½ m v²` plus strain energy `½ Σ_pairs w (|y| − L)²`.
 fn energy(y: &[Vec3], state: &[(Vec3, Vec3)], list: &PairList, mass: f64) -> f64 {
-    let kinetic: f64 = state
-        .par_iter()
-        .map(|(_, v)| 0.5 * mass * v.norm_squared())
-        .sum();
+    // In a fixed order, so that the energies reported show whether two runs agree bit for bit.
+    let kinetic =
+        crate::reduction::ordered_sum(state.len(), |i| 0.5 * mass * state[i].1.norm_squared());
     kinetic + list.strain_energy(y)
 }
 

@@ -11,8 +11,10 @@
 //!
 //! Threads: the particles are cut into as many ranges as there are threads, with equal pair
 //! counts; each range adds its forces into a buffer of its own (a pair's `j` may belong to
-//! another range), and the buffers are summed in a fixed order. The result depends on the
-//! thread count only through rounding, and is the same from run to run.
+//! another range), and the buffers are summed in a fixed order. Each thread clears and the sum
+//! reads only the blocks of particles that thread writes ([`buffers`]), so the bytes a pass
+//! moves do not grow with the thread count. The result depends on the thread count only
+//! through rounding, and is the same from run to run for a given count.
 //!
 //! Symmetry planes: bonds to mirror images (partners at or past the particle count) act on
 //! the real particle only, so they stay directed, in a list of their own. A particle on a
@@ -20,10 +22,26 @@
 //! `w_ij = K V_i V_j / s_j` and `w_ji = K V_i V_j / s_i` differ; `w_ij / s_i` does not. The
 //! pairs store that, and a particle's summed force is multiplied by its own share at the end.
 
+mod buffers;
+mod kernel;
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use rayon::prelude::*;
+
+pub use buffers::ForceBuffers;
+use buffers::{clear_blocks, BLOCK};
+use kernel::bond_sum;
 
 use crate::case::neighbours::BondList;
 use crate::math::Vec3;
+
+/// A number for each pair list made, so that [`ForceBuffers`] know the list they were laid
+/// out for.
+fn next_id() -> u64 {
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    NEXT.fetch_add(1, Ordering::Relaxed)
+}
 
 /// Particles per work item of the summing pass.
 const CHUNK: usize = 1024;
@@ -32,6 +50,8 @@ const CHUNK: usize = 1024;
 /// images, each with its weight `w` (N/m).
 #[derive(Clone, Debug, Default)]
 pub struct PairList {
+    /// This list's number (a clone keeps it: same pairs).
+    id: u64,
     /// Real particles.
     particles: usize,
     /// Per real particle: the share of its volume the model holds (empty: all 1).
@@ -86,6 +106,7 @@ impl PairList {
         let (pairs, pair_weight) = split(&|i, j| i < j && j < particles);
         let (images, image_weight) = split(&|_, j| j >= particles);
         PairList {
+            id: next_id(),
             particles,
             share,
             pairs,
@@ -115,6 +136,7 @@ impl PairList {
                 }
             });
         PairList {
+            id: next_id(),
             particles,
             share: Vec::new(),
             images: BondList {
@@ -198,13 +220,6 @@ impl PairList {
     }
 }
 
-/// Per-thread force buffers of [`pair_forces`], kept between calls so that the time loop does
-/// not allocate.
-#[derive(Clone, Debug, Default)]
-pub struct ForceBuffers {
-    buffers: Vec<Vec<Vec3>>,
-}
-
 /// How bonds stretch.
 #[derive(Clone, Copy, Debug)]
 pub enum PairKinematics<'a> {
@@ -236,28 +251,35 @@ pub fn pair_forces<T: Send>(
         }
     };
     let parts = rayon::current_num_threads().clamp(1, 64).min(n.max(1));
-    let ranges = list.partition(parts);
-    buffers.buffers.resize_with(parts, Vec::new);
-    buffers.buffers.truncate(parts);
-    buffers
-        .buffers
-        .par_iter_mut()
+    buffers.prepare(list, parts);
+    let ForceBuffers {
+        ranges,
+        buffers: bufs,
+        blocks,
+        ..
+    } = buffers;
+    bufs.par_iter_mut()
         .zip(ranges.par_iter())
-        .for_each(|(buf, range)| {
-            buf.clear();
-            buf.resize(n, Vec3::zeros());
+        .zip(blocks.par_iter())
+        .for_each(|((buf, range), blocks)| {
+            clear_blocks(buf, blocks);
             for i in range.clone() {
                 let f = bond_sum::<true>(&list.pairs, &list.pair_weight, pos, reference, i, buf);
                 buf[i] += f;
             }
         });
-    let buffers = &buffers.buffers;
+    let buffers = &*buffers;
     out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
         for (k, o) in out.iter_mut().enumerate() {
             let i = c * CHUNK + k;
-            let mut f = buffers[0][i];
-            for b in &buffers[1..] {
-                f += b[i];
+            // The writers of `i`'s block, in thread order; every block has one (its owner).
+            let (first, rest) = buffers
+                .writers(i / BLOCK)
+                .split_first()
+                .expect("every block has its owner among its writers");
+            let mut f = buffers.buffers[*first as usize][i];
+            for &t in rest {
+                f += buffers.buffers[t as usize][i];
             }
             if let Some(&s) = list.share.get(i) {
                 f *= s;
@@ -270,254 +292,6 @@ pub fn pair_forces<T: Send>(
             finish(i, f, o);
         }
     });
-}
-
-/// The force of particle `i`'s bonds in `bonds` (weights `w`) on `i`: with finite kinematics
-/// (`reference` is `None`) `Σ_j w_ij (|y_ij| − L_ij) y_ij/|y_ij|`, `y_ij = pos[j] − pos[i]`
-/// (Eq. 26 times the volumes); linearised, `Σ_j w_ij ((η_ij·ξ_ij)/|ξ_ij|²) ξ_ij` with
-/// `ξ_ij = X_j − X_i` and `η_ij = u_j − u_i` from `reference`. With `SCATTER`, each bond's
-/// force is also subtracted from `buf[j]` (the pairs); without, `buf` is not touched (the
-/// directed bonds to mirror images). AVX2/FMA where the processor has them.
-#[inline]
-fn bond_sum<const SCATTER: bool>(
-    bonds: &BondList,
-    w: &[f32],
-    pos: &[Vec3],
-    reference: Option<&[Vec3]>,
-    i: usize,
-    buf: &mut [Vec3],
-) -> Vec3 {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if has_avx2_fma() {
-            // SAFETY: the processor has the features; every access is bounds-checked.
-            return unsafe { bond_sum_avx2::<SCATTER>(bonds, w, pos, reference, i, buf) };
-        }
-    }
-    bond_sum_portable::<SCATTER>(bonds, w, pos, reference, i, buf, bonds.range(i))
-}
-
-/// [`bond_sum`] over the bonds `range`, one at a time.
-#[inline(always)]
-fn bond_sum_portable<const SCATTER: bool>(
-    bonds: &BondList,
-    w: &[f32],
-    pos: &[Vec3],
-    reference: Option<&[Vec3]>,
-    i: usize,
-    buf: &mut [Vec3],
-    range: std::ops::Range<usize>,
-) -> Vec3 {
-    let mut acc = Vec3::zeros();
-    for b in range {
-        let j = bonds.partner[b] as usize;
-        let wb = f64::from(w[b]);
-        let f = match reference {
-            None => {
-                let y = pos[j] - pos[i];
-                let l = y.norm();
-                y * (wb * (l - bonds.length(b)) / l)
-            }
-            Some(x) => {
-                let xi = x[j] - x[i];
-                let eta = pos[j] - x[j] - (pos[i] - x[i]);
-                xi * (wb * eta.dot(&xi) / xi.norm_squared())
-            }
-        };
-        acc += f;
-        if SCATTER {
-            buf[j] -= f;
-        }
-    }
-    acc
-}
-
-/// Whether the processor has AVX2 and FMA (the standard library caches the answer).
-#[cfg(target_arch = "x86_64")]
-#[inline]
-fn has_avx2_fma() -> bool {
-    std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-}
-
-/// The coordinates of four partners, transposed into x, y and z lanes. Indexing checks each
-/// partner against the array's length: a bad list panics, never reads outside it.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[inline]
-unsafe fn gather4(v: &[Vec3], j: &[u32]) -> [std::arch::x86_64::__m256d; 3] {
-    use std::arch::x86_64::*;
-    let p: [*const f64; 4] =
-        std::array::from_fn(|m| (&v[j[m] as usize] as *const Vec3).cast::<f64>());
-    let a = _mm256_insertf128_pd::<1>(
-        _mm256_castpd128_pd256(_mm_loadu_pd(p[0])),
-        _mm_loadu_pd(p[2]),
-    );
-    let b = _mm256_insertf128_pd::<1>(
-        _mm256_castpd128_pd256(_mm_loadu_pd(p[1])),
-        _mm_loadu_pd(p[3]),
-    );
-    [
-        _mm256_unpacklo_pd(a, b),
-        _mm256_unpackhi_pd(a, b),
-        _mm256_set_pd(*p[3].add(2), *p[2].add(2), *p[1].add(2), *p[0].add(2)),
-    ]
-}
-
-/// Subtracts four forces (x, y, z lanes) from the buffer entries of four distinct partners.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[inline]
-unsafe fn scatter_sub4(buf: &mut [Vec3], j: &[u32], f: [std::arch::x86_64::__m256d; 3]) {
-    use std::arch::x86_64::*;
-    let [fx, fy, fz] = f;
-    // (x, y) pairs of lanes 0 and 2, 1 and 3: the transpose of `gather4`.
-    let a = _mm256_unpacklo_pd(fx, fy);
-    let b = _mm256_unpackhi_pd(fx, fy);
-    let xy = [
-        _mm256_castpd256_pd128(a),
-        _mm256_castpd256_pd128(b),
-        _mm256_extractf128_pd::<1>(a),
-        _mm256_extractf128_pd::<1>(b),
-    ];
-    let mut z = [0.0f64; 4];
-    _mm256_storeu_pd(z.as_mut_ptr(), fz);
-    for m in 0..4 {
-        let p = (&mut buf[j[m] as usize] as *mut Vec3).cast::<f64>();
-        _mm_storeu_pd(p, _mm_sub_pd(_mm_loadu_pd(p), xy[m]));
-        *p.add(2) -= z[m];
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[inline]
-unsafe fn hsum(v: std::arch::x86_64::__m256d) -> f64 {
-    use std::arch::x86_64::*;
-    let mut l = [0.0f64; 4];
-    _mm256_storeu_pd(l.as_mut_ptr(), v);
-    (l[0] + l[1]) + (l[2] + l[3])
-}
-
-/// [`bond_sum`] in AVX2/FMA, four bonds per step, the rest one at a time. Finite kinematics:
-/// `1/|y|` from the single-precision estimate refined by two Newton steps (relative error
-/// about 1e-13), which keeps the square root and the division off the divider unit that
-/// bounds the plain loop.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn bond_sum_avx2<const SCATTER: bool>(
-    bonds: &BondList,
-    w: &[f32],
-    pos: &[Vec3],
-    reference: Option<&[Vec3]>,
-    i: usize,
-    buf: &mut [Vec3],
-) -> Vec3 {
-    // One loop per kinematics, so that the choice is not made per group of bonds.
-    let acc = match reference {
-        None => bond_group_sum::<SCATTER, false>(bonds, w, pos, &[], i, buf),
-        Some(x) => bond_group_sum::<SCATTER, true>(bonds, w, pos, x, i, buf),
-    };
-    let range = bonds.range(i);
-    let rest = range.start + 4 * (range.len() / 4)..range.end;
-    acc + bond_sum_portable::<SCATTER>(bonds, w, pos, reference, i, buf, rest)
-}
-
-/// The groups of four of [`bond_sum_avx2`]; `SMALL` selects the linearised kinematics (then
-/// `reference` holds the reference positions).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[inline]
-unsafe fn bond_group_sum<const SCATTER: bool, const SMALL: bool>(
-    bonds: &BondList,
-    w: &[f32],
-    pos: &[Vec3],
-    reference: &[Vec3],
-    i: usize,
-    buf: &mut [Vec3],
-) -> Vec3 {
-    use std::arch::x86_64::*;
-    let range = bonds.range(i);
-    let partner = &bonds.partner[range.clone()];
-    let length = &bonds.length[range.clone()];
-    let w4 = &w[range.clone()];
-    let splat = |v: Vec3| {
-        [
-            _mm256_set1_pd(v.x),
-            _mm256_set1_pd(v.y),
-            _mm256_set1_pd(v.z),
-        ]
-    };
-    let [cx, cy, cz] = splat(pos[i]);
-    let xi0 = if SMALL { reference[i] } else { Vec3::zeros() };
-    let [rx, ry, rz] = splat(xi0);
-    let [ux, uy, uz] = splat(if SMALL { pos[i] - xi0 } else { Vec3::zeros() });
-    let (one, three_halves, half) = (
-        _mm256_set1_pd(1.0),
-        _mm256_set1_pd(1.5),
-        _mm256_set1_pd(0.5),
-    );
-    let (mut ax, mut ay, mut az) = (
-        _mm256_setzero_pd(),
-        _mm256_setzero_pd(),
-        _mm256_setzero_pd(),
-    );
-    let groups = partner.len() / 4;
-    for g in 0..groups {
-        let k = 4 * g;
-        let j = &partner[k..k + 4];
-        let wb = _mm256_cvtps_pd(_mm_loadu_ps(w4[k..k + 4].as_ptr()));
-        let [px, py, pz] = gather4(pos, j);
-        let f = if !SMALL {
-            let (dx, dy, dz) = (
-                _mm256_sub_pd(px, cx),
-                _mm256_sub_pd(py, cy),
-                _mm256_sub_pd(pz, cz),
-            );
-            let r2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
-            let mut inv = _mm256_cvtps_pd(_mm_rsqrt_ps(_mm256_cvtpd_ps(r2)));
-            let h = _mm256_mul_pd(half, r2);
-            for _ in 0..2 {
-                let t = _mm256_mul_pd(inv, inv);
-                inv = _mm256_mul_pd(inv, _mm256_fnmadd_pd(h, t, three_halves));
-            }
-            let l0 = _mm256_cvtps_pd(_mm_loadu_ps(length[k..k + 4].as_ptr()));
-            // w (|y| − L)/|y| = w (1 − L/|y|)
-            let s = _mm256_mul_pd(wb, _mm256_fnmadd_pd(l0, inv, one));
-            [
-                _mm256_mul_pd(dx, s),
-                _mm256_mul_pd(dy, s),
-                _mm256_mul_pd(dz, s),
-            ]
-        } else {
-            let [qx, qy, qz] = gather4(reference, j);
-            // ξ = X_j − X_i; η = (y_j − X_j) − u_i.
-            let (sx, sy, sz) = (
-                _mm256_sub_pd(qx, rx),
-                _mm256_sub_pd(qy, ry),
-                _mm256_sub_pd(qz, rz),
-            );
-            let (ex, ey, ez) = (
-                _mm256_sub_pd(_mm256_sub_pd(px, qx), ux),
-                _mm256_sub_pd(_mm256_sub_pd(py, qy), uy),
-                _mm256_sub_pd(_mm256_sub_pd(pz, qz), uz),
-            );
-            let dot = _mm256_fmadd_pd(ez, sz, _mm256_fmadd_pd(ey, sy, _mm256_mul_pd(ex, sx)));
-            let len2 = _mm256_fmadd_pd(sz, sz, _mm256_fmadd_pd(sy, sy, _mm256_mul_pd(sx, sx)));
-            let s = _mm256_div_pd(_mm256_mul_pd(wb, dot), len2);
-            [
-                _mm256_mul_pd(sx, s),
-                _mm256_mul_pd(sy, s),
-                _mm256_mul_pd(sz, s),
-            ]
-        };
-        ax = _mm256_add_pd(ax, f[0]);
-        ay = _mm256_add_pd(ay, f[1]);
-        az = _mm256_add_pd(az, f[2]);
-        if SCATTER {
-            scatter_sub4(buf, j, f);
-        }
-    }
-    Vec3::new(hsum(ax), hsum(ay), hsum(az))
 }
 
 #[cfg(test)]
@@ -632,5 +406,99 @@ mod tests {
                 assert_eq!(w[0].end, w[1].start);
             }
         }
+    }
+
+    /// A Morton-ordered cubic lattice of `n³` points (spacing 1) and its pairs within 3.0002.
+    fn morton_lattice(n: usize) -> (Vec<Vec3>, PairList) {
+        let coords: Vec<[f64; 3]> = (0..n * n * n)
+            .map(|i| [(i % n) as f64, ((i / n) % n) as f64, (i / (n * n)) as f64])
+            .collect();
+        let mut order: Vec<u32> = (0..coords.len() as u32).collect();
+        crate::case::discretize::sort_morton(&mut order, &coords, 1.0);
+        let x: Vec<Vec3> = order
+            .iter()
+            .map(|&k| Vec3::from(coords[k as usize]))
+            .collect();
+        let bonds = build_bonds(&x, 3.0002);
+        let list = PairList::from_bonds(&bonds, &vec![1.0; bonds.len()], &[], x.len());
+        (x, list)
+    }
+
+    /// Forces of a stretched lattice on `threads` threads.
+    fn forces(
+        list: &PairList,
+        y: &[Vec3],
+        threads: usize,
+        buffers: &mut ForceBuffers,
+    ) -> Vec<Vec3> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut out = vec![Vec3::zeros(); y.len()];
+        pool.install(|| {
+            pair_forces(
+                list,
+                y,
+                PairKinematics::Finite,
+                buffers,
+                &mut out,
+                |_, f, o| *o = f,
+            )
+        });
+        out
+    }
+
+    /// The clearing and summing of the force buffers do not grow with the thread count: each
+    /// thread touches its own particles and a halo around them, not the whole body.
+    #[test]
+    fn buffers_touch_a_halo_not_the_body() {
+        let (x, list) = morton_lattice(32);
+        let y: Vec<Vec3> = x
+            .iter()
+            .map(|p| p * 1.001 + Vec3::new(0.0, 0.0, 1e-4 * p.x * p.x))
+            .collect();
+        let mut reference = ForceBuffers::default();
+        let one = forces(&list, &y, 1, &mut reference);
+        assert_eq!(reference.written_blocks_per_block(), 1.0);
+        for threads in [2, 4, 8, 16] {
+            let mut buffers = ForceBuffers::default();
+            let f = forces(&list, &y, threads, &mut buffers);
+            let touched = buffers.written_blocks_per_block();
+            // Whole buffers would be `threads` entries per particle.
+            assert!(
+                touched < 1.0 + 0.15 * threads as f64,
+                "{threads} threads: {touched}"
+            );
+            // Same bits from call to call on the same buffers, and on fresh ones.
+            assert_eq!(f, forces(&list, &y, threads, &mut buffers));
+            assert_eq!(f, forces(&list, &y, threads, &mut ForceBuffers::default()));
+            // Other thread counts: the same forces up to rounding.
+            for (a, b) in f.iter().zip(&one) {
+                assert!((a - b).norm() <= 1e-12 * b.norm().max(1e-3), "{a} vs {b}");
+            }
+        }
+    }
+
+    /// Buffers laid out for one pair list and reused for another of the same size give the
+    /// other's forces (the layout is redone, not taken for the old list's).
+    #[test]
+    fn buffers_follow_their_pair_list() {
+        let (x, list) = morton_lattice(12);
+        // The same particles in reverse order: other partners, other blocks.
+        let xr: Vec<Vec3> = x.iter().rev().copied().collect();
+        let bonds = build_bonds(&xr, 3.0002);
+        let reversed = PairList::from_bonds(&bonds, &vec![1.0; bonds.len()], &[], xr.len());
+        let stretch = |p: &Vec3| p * 1.002 + Vec3::new(1e-3 * p.y * p.z, 0.0, 0.0);
+        let (y, yr): (Vec<Vec3>, Vec<Vec3>) = (
+            x.iter().map(stretch).collect(),
+            xr.iter().map(stretch).collect(),
+        );
+        let mut shared = ForceBuffers::default();
+        let a = forces(&list, &y, 3, &mut shared);
+        let b = forces(&reversed, &yr, 3, &mut shared);
+        assert_eq!(a, forces(&list, &y, 3, &mut ForceBuffers::default()));
+        assert_eq!(b, forces(&reversed, &yr, 3, &mut ForceBuffers::default()));
+        assert_eq!(a, forces(&list, &y, 3, &mut shared));
     }
 }
