@@ -2,6 +2,7 @@
 //! refused once the model is built, before solving.
 
 mod checks;
+mod held;
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -239,8 +240,6 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
     let result = solve(&mut model, &scene.solver, &mut monitor);
     let summary_path = folder.join("summary.json");
     let (stats, error) = match result {
-        // ADR that ends without reaching the tolerance (and was not interrupted) is a failed
-        // run: the state is not an equilibrium.
         Ok(s) if scene.solver.kind == SolverKind::Adr && !s.converged && !s.interrupted => {
             let e = Error::numerical(format!(
                 "ADR did not converge in {} iterations (residual {:.3e}, tolerance {:.1e}); likely cause: too few iterations (raise max_iterations) or loads that the supports and contacts cannot balance",
