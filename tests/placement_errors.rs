@@ -270,3 +270,56 @@ fn planes_and_bodies_out_of_scale_are_refused() {
         assert_accepted(case, &text);
     }
 }
+
+#[test]
+fn a_loaded_body_on_bodies_that_nothing_holds_is_refused() {
+    let ball = "name = \"ball\"";
+    // The base is free: the ball's load would carry both away.
+    let text = ON_BASE.replace("TOP", "-1.0").replace(
+        "[[constraint]]\nbody = \"base\"\nset = \"bottom\"\nfix = [\"x\", \"y\", \"z\"]\n",
+        "",
+    );
+    let line = assert_refused(
+        "group-free",
+        &text,
+        true,
+        ("[[body]]", 0),
+        &[
+            "body \"ball\" is pushed along [0, 0, -1] by its loads",
+            "nor do the bodies it is in contact with, directly or through others (\"base\")",
+        ],
+    );
+    // The message names the [[body]] line above the name.
+    assert!(
+        line.contains(&format!(":{}:1:", line_of(&text, ball, 0) - 1)),
+        "{line}"
+    );
+    // The base fixed beside the ball's path, or under it while the load pulls the ball up.
+    for (case, text) in [
+        (
+            "beside",
+            ON_BASE
+                .replace("TOP", "-1.0")
+                .replace("min = [-1.5, -1.5, -1.5]", "min = [3.0, -1.5, -1.5]")
+                .replace("max = [1.5, 1.5, -1.0]", "max = [6.0, 1.5, -1.0]"),
+        ),
+        (
+            "away",
+            ON_BASE
+                .replace("[-1.5, -1.5, -1.5]", "[-1.5, -1.5, -2.5]")
+                .replace("TOP", "-1.5")
+                .replace("-1e5]", "1e5]"),
+        ),
+    ] {
+        assert_refused(
+            case,
+            &text,
+            true,
+            ("[[body]]", 0),
+            &[
+                "body \"ball\" is pushed along",
+                "its path in that direction meets none of the bodies it is in contact with (\"base\": beside it or behind it)",
+            ],
+        );
+    }
+}
