@@ -323,3 +323,46 @@ fn a_loaded_body_on_bodies_that_nothing_holds_is_refused() {
         );
     }
 }
+
+/// A block pushed down past the side of a fixed ball: the boxes of the two overlap, so the
+/// check before solving cannot tell, and ADR used to accelerate the block until
+/// `max_iterations` (200000 here). The run stops once the block is past the ball.
+#[test]
+fn a_body_that_goes_past_what_it_touches_stops_the_run() {
+    let text = ON_BASE
+        .replace("TOP", "-1.0")
+        .replace("name = \"base\"", "name = \"block\"")
+        .replace(
+            "min = [-1.5, -1.5, -1.5], max = [1.5, 1.5, -1.0], spacing = 0.25",
+            "min = [0.85, 0.85, 1.2], max = [1.35, 1.35, 1.45], spacing = 0.125",
+        )
+        .replace(
+            "body = \"base\"\nset = \"bottom\"",
+            "body = \"ball\"\nset = \"top\"",
+        )
+        .replace("body = \"ball\"\nforce", "body = \"block\"\nforce")
+        .replace(
+            "slave = \"ball\"\nmaster = \"base\"",
+            "slave = \"block\"\nmaster = \"ball\"",
+        );
+    assert_accepted("past-check", &text);
+    let (dir, out) = run("past", &text, false);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    let want = format!(
+        "error: {}:{}:1: body \"block\" went past every body it is in contact with (\"ball\") along [0, 0, -1], the direction of its loads, with no contact force",
+        dir.join("scene.toml").display(),
+        line_of(&text, "[[body]]", 1)
+    );
+    assert!(err.starts_with(&want) && err.lines().count() == 1, "{err}");
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("out/summary.json")).expect("summary"),
+    )
+    .expect("json");
+    let iterations = summary["iterations"].as_u64().expect("iterations");
+    assert!(iterations < 5000, "{iterations} iterations");
+    assert!(summary["error"]
+        .as_str()
+        .is_some_and(|e| e.contains("went past")));
+    let _ = std::fs::remove_dir_all(&dir);
+}

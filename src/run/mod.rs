@@ -240,6 +240,14 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
     let result = solve(&mut model, &scene.solver, &mut monitor);
     let summary_path = folder.join("summary.json");
     let (stats, error) = match result {
+        // A body gone past everything it touches: the scene cannot be solved quasi-statically.
+        Ok(s) if s.unheld.is_some() => {
+            let u = s.unheld.clone().expect("matched");
+            let e = scene.block_error("[[body]]", u.body, u.message);
+            (s, Some(e))
+        }
+        // ADR that ends without reaching the tolerance (and was not interrupted) is a failed
+        // run: the state is not an equilibrium.
         Ok(s) if scene.solver.kind == SolverKind::Adr && !s.converged && !s.interrupted => {
             let e = Error::numerical(format!(
                 "ADR did not converge in {} iterations (residual {:.3e}, tolerance {:.1e}); likely cause: too few iterations (raise max_iterations) or loads that the supports and contacts cannot balance",
