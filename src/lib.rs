@@ -10,11 +10,11 @@
 //! | mesh → PD case | [`case`] | [`generators`](case::generators) (built-in hex8 shapes), [`discretize`](case::discretize) (particles, volumes, spacing), [`neighbours`](case::neighbours) (cell lists, bond families), [`pairs`](case::pairs) (the bond-force pass, each pair once), [`correction`](case::correction) (volume and surface correction), [`surface`](case::surface) (eigenvalue surface detection), [`segments`](case::segments) (master segments, tributary areas), the assembled [`PdCase`](case::PdCase) and its symmetry ghosts |
 //! | scene file | [`scene`] | the TOML schema; `check.rs`: every check of its values |
 //! | bodies | [`body`] | deformable and rigid body types; `build.rs`: a body built from its `[[body]]` (mesh I/O, transform, symmetry clipping, rigid faces) |
-//! | contact | [`contact`] | `broad.rs` (Verlet lists), `narrow.rs` (projection, segment rules), `law.rs` (Hertz penalty), the pass that ties them, [`shortrange`](contact::shortrange) (node-to-node repulsion), [`estimate`](contact::estimate) (the Hertz contact a pair will make, and the warnings when its particles resolve it poorly) |
+//! | contact | [`contact`] | `broad.rs` (Verlet lists), `narrow.rs` (projection, segment rules), `law.rs` (Hertz penalty), the pass that ties them, [`shortrange`](contact::shortrange) (node-to-node repulsion), [`estimate`](contact::estimate) (the Hertz contact a pair will make, and the warnings when its particles resolve it poorly), [`overlap`](contact::overlap) (bodies that start inside each other) |
 //! | model | [`model`] | a scene assembled: bodies, loads, supports, contact passes, and the force evaluation (Eq. 28) |
-//! | solver | [`solver`] | `adr.rs` (adaptive dynamic relaxation), `explicit.rs` (velocity Verlet, stable step), the monitor and the checks they share |
+//! | solver | [`solver`] | `adr.rs` (adaptive dynamic relaxation), `explicit.rs` (velocity Verlet, stable step), `unheld.rs` (ADR: a loaded body gone past what it touches), the monitor and the checks they share |
 //! | output | [`output`] | [`vtk`](output::vtk) (VTK XML files), [`frames`](output::frames) (frames, `run.pvd`, progress), [`analysis`](output::analysis) (contact pressure and patch, Hertz and Sadowsky references) |
-//! | commands | [`run`], [`convert`] | a scene run to its frames and `summary.json`; a mesh turned into a case folder |
+//! | commands | [`run`], [`convert`] | a scene run to its frames and `summary.json` (`run/checks.rs`, `run/held.rs`: the checks before solving); a mesh turned into a case folder |
 //! | studies | [`studies`] | [`demo`](studies::demo), [`scenarios`](studies::scenarios) and [`comparison`](studies::comparison) (the validation scenes against theory), [`validate`](studies::validate), [`sweep`](studies::sweep), [`stability`](studies::stability), [`bench`](studies::bench), [`chart`](studies::chart) |
 //!
 //! The body types come before the contact stage and the model after it: a model holds the

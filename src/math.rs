@@ -8,3 +8,11 @@ pub type Vec3 = Vector3<f64>;
 
 /// Marks a mesh node that is not a particle.
 pub const NOT_A_PARTICLE: u32 = u32::MAX;
+
+/// The unit vector along `v`, scaled first so that a scene's direction with huge components
+/// (`normal = [0, -1e300, 1]`, a direction along -y) does not overflow its norm into a zero
+/// vector. The caller has checked that `v` is finite and not zero.
+pub fn unit(v: Vec3) -> Vec3 {
+    let m = v.amax();
+    (v / m).normalize()
+}

@@ -13,7 +13,7 @@ use crate::case::generators;
 use crate::case::segments::{quad_area_normal, MasterSegment};
 use crate::case::{CaseOptions, PdCase, SymmetryPlane, DEFAULT_HORIZON_FACTOR};
 use crate::error::{Error, Result};
-use crate::math::{Vec3, NOT_A_PARTICLE};
+use crate::math::{unit, Vec3, NOT_A_PARTICLE};
 use crate::scene::{box_corner, BodyKind, BodySpec, Scene, Side};
 
 /// Loads the mesh of a body spec (file or generator), transformed.
@@ -92,8 +92,13 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
 /// `scale = 1e300` used to be reported as an inverted element of volume NaN).
 const BODY_SIZE: (f64, f64) = (1e-15, 1e15);
 
-/// Refuses a placed mesh whose coordinates are not finite or whose size is out of
-/// [`BODY_SIZE`]; and, when the body gives its spacing, one whose bonds cannot fit in memory.
+/// How far from the origin a body may lie, in its own sizes: there f64's 16 digits still keep
+/// 8 for the body's own geometry, what bond stretches of 1e-6 (small loads) need.
+const PLACEMENT_RANGE: f64 = 1e8;
+
+/// Refuses a placed mesh whose coordinates are not finite, whose size is out of
+/// [`BODY_SIZE`] or which lies farther than [`PLACEMENT_RANGE`] of its sizes from the origin;
+/// and, when the body gives its spacing, one whose bonds cannot fit in memory.
 fn check_size(scene: &Scene, spec: &BodySpec, mesh: &Mesh) -> Result<()> {
     let Some((lo, hi)) = mesh.bbox() else {
         return Ok(());
@@ -112,6 +117,29 @@ fn check_size(scene: &Scene, spec: &BodySpec, mesh: &Mesh) -> Result<()> {
                 crate::scene::num(spec.scale.unwrap_or(1.0)),
                 crate::scene::num(BODY_SIZE.0),
                 crate::scene::num(BODY_SIZE.1)
+            ),
+        ));
+    }
+    // Far from the origin, f64 keeps too few digits to tell the body's nodes apart (a sphere
+    // at `center = [0, 0, 1e20]` used to be reported as a degenerate element).
+    let far = lo.iter().chain(&hi).map(|x| x.abs()).fold(0.0, f64::max);
+    if far > PLACEMENT_RANGE * size {
+        let needle = if spec.translate.is_some() {
+            "translate"
+        } else if spec.generator.as_ref().is_some_and(|g| g.center.is_some()) {
+            "center"
+        } else {
+            ""
+        };
+        return Err(scene.error_in_body(
+            &spec.name,
+            needle,
+            &format!(
+                "body \"{}\" lies {} m from the origin once placed, more than {} times its size ({} m): f64 has too few digits there to tell its nodes apart; check center, translate and the mesh's units",
+                spec.name,
+                crate::scene::num(far),
+                crate::scene::num(PLACEMENT_RANGE),
+                crate::scene::num(size)
             ),
         ));
     }
@@ -159,9 +187,12 @@ fn transform_points(points: &mut [Vec3], spec: &BodySpec) {
     let scale = spec.scale.unwrap_or(1.0);
     let rotation = spec.rotate.as_ref().and_then(|r| {
         let axis = Vec3::from(r.axis);
-        (axis.norm() > 0.0).then(|| {
+        (axis.amax() > 0.0).then(|| {
             (
-                Rotation3::from_axis_angle(&Unit::new_normalize(axis), r.angle_deg.to_radians()),
+                Rotation3::from_axis_angle(
+                    &Unit::new_unchecked(unit(axis)),
+                    r.angle_deg.to_radians(),
+                ),
                 Vec3::from(r.center.unwrap_or([0.0; 3])),
             )
         })
@@ -369,8 +400,8 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                 }),
                 motion: spec.motion,
                 velocity: Vec3::from(spec.motion_velocity.unwrap_or([0.0; 3])),
-                axis: if axis.norm() > 0.0 {
-                    axis.normalize()
+                axis: if axis.amax() > 0.0 {
+                    unit(axis)
                 } else {
                     Vec3::z()
                 },
@@ -429,8 +460,7 @@ fn plane_faces(spec: &BodySpec) -> (Vec<Vec3>, Vec<MasterSegment>) {
     let (Some(point), Some(normal), Some(size)) = (g.point, g.normal, g.size) else {
         unreachable!("plane checked by the scene")
     };
-    let n = Vec3::from(normal);
-    let n = n.normalize();
+    let n = unit(Vec3::from(normal));
     let t1 = if n.x.abs() < 0.9 {
         Vec3::x()
     } else {

@@ -27,11 +27,14 @@
 //! * **estimate** ([`estimate`]): before a run, the Hertz contact radius each pair will make
 //!   under its loads, against the slave's particle spacing there (the warnings of `run` and
 //!   `convert`).
+//! * **overlap** ([`overlap`]): before a run, the slave particles that start inside their
+//!   master deeper than the window, which the penalty cannot push back (`run` refuses them).
 
 mod broad;
 pub mod estimate;
 mod law;
 mod narrow;
+pub mod overlap;
 pub mod shortrange;
 
 use rayon::prelude::*;

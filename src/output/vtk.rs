@@ -220,18 +220,14 @@ pub fn write_vtm(path: &Path, nodes: &[BlockNode]) -> Result<()> {
 /// A `.pvd` collection: one entry per time step.
 #[derive(Clone, Debug, Default)]
 pub struct PvdCollection {
-    entries: Vec<(f64, String, u32)>,
+    entries: Vec<(f64, String)>,
 }
 
 impl PvdCollection {
-    /// Adds a file (relative to the `.pvd`) at time `t`, as part 0.
+    /// Adds a file (relative to the `.pvd`) at time `t`: one dataset per time step (a frame's
+    /// bodies are the blocks of its `.vtm`).
     pub fn push(&mut self, t: f64, file: impl Into<String>) {
-        self.entries.push((t, file.into(), 0));
-    }
-
-    /// Adds a file as part `part` of time `t` (ParaView shows the parts as one multiblock).
-    pub fn push_part(&mut self, t: f64, file: impl Into<String>, part: u32) {
-        self.entries.push((t, file.into(), part));
+        self.entries.push((t, file.into()));
     }
 
     /// Number of entries.
@@ -249,9 +245,9 @@ impl PvdCollection {
         let mut s = String::from(
             "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
         );
-        for (t, f, part) in &self.entries {
+        for (t, f) in &self.entries {
             s.push_str(&format!(
-                "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"{part}\" file=\"{}\"/>\n",
+                "    <DataSet timestep=\"{t:.9e}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
                 xml_escape(f)
             ));
         }

@@ -648,7 +648,7 @@ fn check_shape(b: &BodySpec, err: &dyn Fn(&str, String) -> Error) -> Result<()> 
                     ),
                 ));
             };
-            if !(Vec3::from(normal).norm() > 0.0 && size > 0.0 && size.is_finite()) {
+            if !(Vec3::from(normal).amax() > 0.0 && size > 0.0 && size.is_finite()) {
                 return Err(err(
                     "plane",
                     format!(

@@ -5,6 +5,7 @@
 
 use rayon::prelude::*;
 
+use super::unheld::{PastCheck, EVERY};
 use super::{check_missed, free_factor, Monitor, RunStats};
 use crate::body::Body;
 use crate::error::{Error, Result};
@@ -252,6 +253,7 @@ fn adr_increment(
     }
 
     let mut best = f64::INFINITY;
+    let mut past = PastCheck::default();
     let mut n = n0;
     loop {
         n += 1;
@@ -323,6 +325,12 @@ fn adr_increment(
         }
         if n >= max_iterations {
             break;
+        }
+        if n.is_multiple_of(EVERY) {
+            if let Some(u) = past.find(model, n) {
+                stats.unheld = Some(u);
+                break;
+            }
         }
         if rel > 1e6 * best.max(1e-12) && n > n0 + 100 {
             return Err(Error::numerical(format!(

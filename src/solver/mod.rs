@@ -20,15 +20,18 @@
 //! |---|---|
 //! | ADR: the fictitious density, the load increments, the relaxation | `adr.rs` ([`adr`]) |
 //! | velocity Verlet, the stable step, the energy balance | `explicit.rs` ([`explicit`], [`stable_time_step`]) |
+//! | ADR: a loaded body gone past everything it is in contact with | `unheld.rs` ([`Unheld`]) |
 //! | the monitor, the statistics, the free-direction mask, the checks both share | this module |
 
 mod adr;
 mod explicit;
+mod unheld;
 
 use rayon::prelude::*;
 
 pub use adr::adr;
 pub use explicit::{explicit, stable_time_step};
+pub use unheld::Unheld;
 
 use crate::body::{Body, FIX_X, FIX_Y, FIX_Z};
 use crate::error::{Error, Result};
@@ -93,6 +96,10 @@ pub struct RunStats {
     pub rebounded: bool,
     /// The run was interrupted by the user.
     pub interrupted: bool,
+    /// ADR: the body that went past everything it is in contact with, which stopped the run
+    /// ([`Unheld`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unheld: Option<Unheld>,
 }
 
 /// Fixed-component mask as a per-axis factor (0 fixed, 1 free).

@@ -1,4 +1,8 @@
-//! `pdcontact run`: a scene from file to frames and a `summary.json`.
+//! `pdcontact run`: a scene from file to frames and a `summary.json`; `checks.rs`: what is
+//! refused once the model is built, before solving.
+
+mod checks;
+mod held;
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -181,8 +185,7 @@ fn patch_figures(model: &Model) -> (f64, f64) {
 /// `pdcontact run --check` stops here.
 pub fn check_scene(scene: &Scene) -> Result<(Model, Vec<String>, Vec<ContactResolution>)> {
     let model = Model::from_scene(scene)?;
-    check_plane_sides(scene, &model)?;
-    check_held(scene, &model)?;
+    checks::check_model(scene, &model)?;
     // What the importers and the quality checks found in the meshes, body by body.
     let mut warnings: Vec<String> = model
         .bodies
@@ -205,148 +208,6 @@ pub fn check_scene(scene: &Scene) -> Result<(Model, Vec<String>, Vec<ContactReso
             .flat_map(ContactResolution::warnings),
     );
     Ok((model, warnings, contact_estimates))
-}
-
-/// A rigid plane whose normal points away from its slave body pushes the slave through itself:
-/// refused before solving when most of the slave's particles lie behind the plane.
-fn check_plane_sides(scene: &Scene, model: &Model) -> Result<()> {
-    for (k, c) in scene.contacts.iter().enumerate() {
-        let index = |name: &str| scene.bodies.iter().position(|b| b.name == name);
-        let (Some(s), Some(m)) = (index(&c.slave), index(&c.master)) else {
-            continue;
-        };
-        let is_plane = scene.bodies[m]
-            .generator
-            .as_ref()
-            .is_some_and(|g| g.shape == "plane");
-        let (Some(pd), Some(rb)) = (model.bodies[s].as_pd(), model.bodies[m].as_rigid()) else {
-            continue;
-        };
-        let (true, Some(face)) = (is_plane, rb.faces.first()) else {
-            continue;
-        };
-        // From the placed vertices: the plane may have been rotated after its faces were made.
-        let corners = face.nodes.map(|i| rb.vertices[i as usize]);
-        let (_, n) = crate::case::segments::quad_area_normal(corners);
-        let p = corners[0];
-        let x = &pd.case.particles.position;
-        let behind = x.iter().filter(|&&q| (q - p).dot(&n) < 0.0).count();
-        if 2 * behind > x.len() {
-            return Err(scene.block_error(
-                "[[contact]]",
-                k,
-                format!(
-                "contact pair \"{}\" / \"{}\": {behind} of {} particles of \"{}\" lie behind the plane \"{}\" (on the side its normal [{}, {}, {}] points away from): the normal must point out of the plane toward the slave; flip it",
-                c.slave,
-                c.master,
-                x.len(),
-                c.slave,
-                c.master,
-                crate::scene::num(n.x),
-                crate::scene::num(n.y),
-                crate::scene::num(n.z),
-                ),
-            ));
-        }
-    }
-    Ok(())
-}
-
-/// A quasi-static run needs every loaded body held: an unconstrained body whose only contacts
-/// are rigid planes that its loads do not push it onto (a plane beside it or behind it, or one
-/// its path misses) has no equilibrium, and ADR would relax until its iteration limit. Refused
-/// before solving, naming the body and the direction of its loads. Bodies in contact with
-/// another deformable body, constrained bodies and explicit runs (where a free flight is a
-/// result) are left alone.
-fn check_held(scene: &Scene, model: &Model) -> Result<()> {
-    if scene.solver.kind != crate::scene::SolverKind::Adr {
-        return Ok(());
-    }
-    for (b, spec) in scene.bodies.iter().enumerate() {
-        let Some(pd) = model.bodies[b].as_pd() else {
-            continue;
-        };
-        let load: Vec3 = scene
-            .loads
-            .iter()
-            .filter(|l| l.body == spec.name)
-            .map(|l| Vec3::from(l.force))
-            .sum();
-        if load.norm() == 0.0 || scene.constraints.iter().any(|c| c.body == spec.name) {
-            continue;
-        }
-        let d = load.normalize();
-        let mut planes = Vec::new();
-        let mut undecided = false;
-        for c in scene.contacts.iter() {
-            let other = if c.slave == spec.name {
-                &c.master
-            } else if c.master == spec.name {
-                &c.slave
-            } else {
-                continue;
-            };
-            let Some(m) = scene.bodies.iter().position(|x| &x.name == other) else {
-                continue;
-            };
-            let is_plane = scene.bodies[m]
-                .generator
-                .as_ref()
-                .is_some_and(|g| g.shape == "plane");
-            match (is_plane, model.bodies[m].as_rigid()) {
-                (true, Some(rb)) if !rb.faces.is_empty() => planes.push((other, rb)),
-                _ => undecided = true,
-            }
-        }
-        if undecided {
-            continue;
-        }
-        // Held if some particle, moved along d, meets a face of a plane from its front side.
-        let x = &pd.case.particles.position;
-        let held = planes.iter().any(|(_, rb)| {
-            rb.faces.iter().any(|face| {
-                let c = face.nodes.map(|i| rb.vertices[i as usize]);
-                let (_, n) = crate::case::segments::quad_area_normal(c);
-                let dn = d.dot(&n);
-                if dn >= -1e-9 {
-                    return false;
-                }
-                x.iter().any(|&q| {
-                    let t = (c[0] - q).dot(&n) / dn;
-                    let hit = q + d * t;
-                    // Inside the quad: on the inner side of its four edges.
-                    t >= 0.0
-                        && (0..4).all(|e| {
-                            let (a, b) = (c[e], c[(e + 1) % 4]);
-                            (b - a).cross(&(hit - a)).dot(&n) >= -1e-9 * (b - a).norm_squared()
-                        })
-                })
-            })
-        });
-        if !held {
-            let why = if planes.is_empty() {
-                "no constraint holds it and it is in no contact pair".to_string()
-            } else {
-                let names: Vec<String> = planes.iter().map(|(n, _)| format!("\"{n}\"")).collect();
-                format!(
-                    "no constraint holds it, and its path in that direction meets no plane it is in contact with ({}: beside it, behind it, or too small)",
-                    names.join(", ")
-                )
-            };
-            return Err(scene.block_error(
-                "[[body]]",
-                b,
-                format!(
-                "body \"{}\" is pushed along [{}, {}, {}] by its loads, but {why}: a quasi-static run has no equilibrium; add a constraint, or a contact in that direction",
-                spec.name,
-                crate::scene::num(d.x),
-                crate::scene::num(d.y),
-                crate::scene::num(d.z),
-                ),
-            ));
-        }
-    }
-    Ok(())
 }
 
 /// Runs a scene; writes frames and `summary.json` into the output folder.
@@ -379,6 +240,12 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
     let result = solve(&mut model, &scene.solver, &mut monitor);
     let summary_path = folder.join("summary.json");
     let (stats, error) = match result {
+        // A body gone past everything it touches: the scene cannot be solved quasi-statically.
+        Ok(s) if s.unheld.is_some() => {
+            let u = s.unheld.clone().expect("matched");
+            let e = scene.block_error("[[body]]", u.body, u.message);
+            (s, Some(e))
+        }
         // ADR that ends without reaching the tolerance (and was not interrupted) is a failed
         // run: the state is not an equilibrium.
         Ok(s) if scene.solver.kind == SolverKind::Adr && !s.converged && !s.interrupted => {

@@ -1,0 +1,227 @@
+//! The checks of a scene that need its model built (meshes read, particles, surfaces,
+//! contact passes), made before solving: each refuses with the scene line it concerns.
+//! `held.rs`: the loaded bodies that nothing holds.
+
+use crate::body::Body;
+use crate::case::segments::quad_area_normal;
+use crate::contact::overlap::overlap;
+use crate::contact::{MasterView, WINDOW};
+use crate::error::Result;
+use crate::math::Vec3;
+use crate::model::Model;
+use crate::scene::{num, Scene};
+
+/// Every check below, in the order that names the cause best: a plane placed absurdly
+/// before the side it faces, a backwards plane before the particles behind it.
+pub(super) fn check_model(scene: &Scene, model: &Model) -> Result<()> {
+    check_planes(scene, model)?;
+    check_plane_sides(scene, model)?;
+    check_overlaps(scene, model)?;
+    super::held::check_held(scene, model)
+}
+
+/// Whether the `k`-th body of the scene is a generated rigid plane.
+pub(super) fn is_plane(scene: &Scene, k: usize) -> bool {
+    scene.bodies[k]
+        .generator
+        .as_ref()
+        .is_some_and(|g| g.shape == "plane")
+}
+
+/// A number to three significant digits, as messages show it.
+pub(super) fn short(x: f64) -> String {
+    num(format!("{x:.2e}").parse().unwrap_or(x))
+}
+
+/// How far a plane's size and distance may depart from the scene's other bodies: a plane
+/// needs to be little larger than what it touches and near it. Far beyond this factor its
+/// faces' areas and normals over- or underflow (`size = 1e300` made NaN normals, and the
+/// run blamed the body's path; `point = [0, 0, 1e300]` was reported as a backwards plane).
+const PLANE_RANGE: f64 = 1e6;
+
+/// Refuses a rigid plane whose size (`size` times `scale`) is not finite or lies outside
+/// [`PLANE_RANGE`] times the extent of the scene's other bodies either way, or that lies
+/// farther than that from them, at the key that sets it.
+fn check_planes(scene: &Scene, model: &Model) -> Result<()> {
+    // The bounding box of every body but the planes: particles and rigid mesh vertices.
+    let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
+    for (k, b) in model.bodies.iter().enumerate() {
+        let points: Box<dyn Iterator<Item = Vec3>> = match b {
+            Body::Deformable(pd) => Box::new(pd.case.particles.position.iter().copied()),
+            Body::Rigid(_) if is_plane(scene, k) => continue,
+            Body::Rigid(rb) => Box::new(rb.vertices.iter().copied()),
+        };
+        for p in points {
+            lo = lo.inf(&p);
+            hi = hi.sup(&p);
+        }
+    }
+    let extent = (hi - lo).norm();
+    if !(extent > 0.0 && extent.is_finite()) {
+        return Ok(());
+    }
+    for (k, spec) in scene.bodies.iter().enumerate() {
+        let (true, Some(rb), Some(g)) = (
+            is_plane(scene, k),
+            model.bodies[k].as_rigid(),
+            spec.generator.as_ref(),
+        ) else {
+            continue;
+        };
+        let size = g.size.unwrap_or(0.0) * spec.scale.unwrap_or(1.0);
+        let (key, what) = if spec.scale.is_some() {
+            ("scale", "size times scale")
+        } else {
+            ("size", "size")
+        };
+        // The plane's centre, and how far its nearest edge lies from the bodies' box.
+        let (mut plo, mut phi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
+        for p in &rb.vertices {
+            plo = plo.inf(p);
+            phi = phi.sup(p);
+        }
+        let centre = plo * 0.5 + phi * 0.5;
+        let outside = length(centre - centre.sup(&lo).inf(&hi));
+        let gap = outside - size * std::f64::consts::FRAC_1_SQRT_2;
+        if !(gap <= PLANE_RANGE * extent) {
+            let key = if spec.translate.is_some() {
+                "translate"
+            } else {
+                "point"
+            };
+            return Err(scene.error_in_body(
+                &spec.name,
+                key,
+                &format!(
+                    "body \"{}\": the plane lies {} m from the scene's other bodies ({} m across), more than {} times their extent: it can touch nothing; check its point{}",
+                    spec.name,
+                    short(gap),
+                    short(extent),
+                    num(PLANE_RANGE),
+                    if key == "translate" { " and translate" } else { "" }
+                ),
+            ));
+        }
+        let faces_ok = rb.faces.iter().all(|f| {
+            let (a, n) = quad_area_normal(f.nodes.map(|i| rb.vertices[i as usize]));
+            a > 0.0 && a.is_finite() && n.iter().all(|c| c.is_finite())
+        });
+        let within = |x: f64| x <= PLANE_RANGE * extent && x * PLANE_RANGE >= extent;
+        if !(size.is_finite() && within(size) && faces_ok) {
+            return Err(scene.error_in_body(
+                &spec.name,
+                key,
+                &format!(
+                    "body \"{}\": the plane's {what} {} is out of scale with the scene's other bodies ({} m across): a plane from {} to {} times their extent is supported (it needs to be a little larger than what it touches)",
+                    spec.name,
+                    num(size),
+                    short(extent),
+                    num(1.0 / PLANE_RANGE),
+                    num(PLANE_RANGE)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `|v|` without overflow where its components are near f64's limit.
+fn length(v: Vec3) -> f64 {
+    let m = v.amax();
+    if m > 0.0 && m.is_finite() {
+        m * (v / m).norm()
+    } else {
+        m
+    }
+}
+
+/// A rigid plane whose normal points away from its slave body pushes the slave through itself:
+/// refused before solving when most of the slave's particles lie behind the plane.
+fn check_plane_sides(scene: &Scene, model: &Model) -> Result<()> {
+    for (k, c) in scene.contacts.iter().enumerate() {
+        let index = |name: &str| scene.bodies.iter().position(|b| b.name == name);
+        let (Some(s), Some(m)) = (index(&c.slave), index(&c.master)) else {
+            continue;
+        };
+        let (Some(pd), Some(rb)) = (model.bodies[s].as_pd(), model.bodies[m].as_rigid()) else {
+            continue;
+        };
+        let (true, Some(face)) = (is_plane(scene, m), rb.faces.first()) else {
+            continue;
+        };
+        // From the placed vertices: the plane may have been rotated after its faces were made.
+        let corners = face.nodes.map(|i| rb.vertices[i as usize]);
+        let (_, n) = quad_area_normal(corners);
+        let p = corners[0];
+        let x = &pd.case.particles.position;
+        let behind = x.iter().filter(|&&q| (q - p).dot(&n) < 0.0).count();
+        if 2 * behind > x.len() {
+            return Err(scene.block_error(
+                "[[contact]]",
+                k,
+                format!(
+                "contact pair \"{}\" / \"{}\": {behind} of {} particles of \"{}\" lie behind the plane \"{}\" (on the side its normal [{}, {}, {}] points away from): the normal must point out of the plane toward the slave; flip it",
+                c.slave,
+                c.master,
+                x.len(),
+                c.slave,
+                c.master,
+                num(n.x),
+                num(n.y),
+                num(n.z),
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Bodies of a contact pair that start interpenetrating: surface particles of the slave (and,
+/// for a two-pass pair, of the master) that lie inside the other body, or behind a rigid
+/// plane within its extent, deeper than the contact window 0.5Δ. The penalty pushes back only
+/// what lies within the window; deeper, the first iteration would stop on a missed contact
+/// and blame the load, or miss the particles altogether. Bodies placed touching, or a few
+/// particles within the window, are accepted.
+fn check_overlaps(scene: &Scene, model: &Model) -> Result<()> {
+    for (k, c) in scene.contacts.iter().enumerate() {
+        let index = |name: &str| scene.bodies.iter().position(|b| b.name == name);
+        let (Some(s), Some(m)) = (index(&c.slave), index(&c.master)) else {
+            continue;
+        };
+        let mut directions = vec![(s, m)];
+        if c.two_pass && model.bodies[m].as_pd().is_some() {
+            directions.push((m, s));
+        }
+        for (a, b) in directions {
+            let Some(pd) = model.bodies[a].as_pd() else {
+                continue;
+            };
+            let window = WINDOW * pd.spacing();
+            let found = overlap(pd, MasterView::of(&model.bodies[b]), window);
+            if found.count == 0 {
+                continue;
+            }
+            let (name, other) = (model.bodies[a].name(), model.bodies[b].name());
+            let place = if is_plane(scene, b) {
+                format!("behind the plane \"{other}\"")
+            } else {
+                format!("inside \"{other}\"")
+            };
+            return Err(scene.block_error(
+                "[[contact]]",
+                k,
+                format!(
+                    "contact pair \"{}\" / \"{}\": the bodies start interpenetrating: {} of {} surface particles of \"{name}\" lie {place}, up to {} m deep, beyond the contact window ({} Δ = {} m) within which the penalty pushes back; move them apart (touching is fine)",
+                    c.slave,
+                    c.master,
+                    found.count,
+                    found.of,
+                    short(found.deepest),
+                    num(WINDOW),
+                    short(window)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
