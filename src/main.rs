@@ -88,6 +88,11 @@ enum Command {
         /// With --mesh: force the mesh format (cdb, msh or inp) instead of guessing it.
         #[arg(long, value_parser = parse_format, requires = "mesh")]
         format: Option<Format>,
+        /// With --mesh: load so that Hertz's contact radius (or half-width) is this fraction of
+        /// the body's radius (at most 0.5; Hertz theory holds best at 0.15 or less, where the
+        /// mesh needs a/Δ >= 5 across the contact).
+        #[arg(long, value_name = "A_OVER_R", default_value_t = pdcontact::studies::user_mesh::CONTACT_RATIO, requires = "mesh")]
+        contact_ratio: f64,
         /// Output folder (one subfolder per run).
         #[arg(short, long, default_value = "pdcontact-validate")]
         output: PathBuf,
@@ -336,6 +341,7 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
             study,
             mesh,
             format,
+            contact_ratio,
             output,
             json,
             quiet,
@@ -351,7 +357,12 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
                     }
                 };
                 let report = pdcontact::studies::user_mesh::validate_mesh(
-                    &mesh, format, problem, &output, quiet,
+                    &mesh,
+                    format,
+                    problem,
+                    contact_ratio,
+                    &output,
+                    quiet,
                 )?;
                 print_report(json, &report, || report.to_text());
                 return Ok(Outcome::Done);

@@ -39,8 +39,12 @@ use crate::studies::scenarios::{
 };
 use crate::studies::validate::table_with_peak;
 
-/// Hertz contact radius (sphere) or half-width (roller) over the body's radius, as in the whole-sphere scene of docs/VALIDATION.md.
+/// Hertz contact radius (sphere) or half-width (roller) over the body's radius by default, as
+/// in the whole-sphere scene of docs/VALIDATION.md.
 pub const CONTACT_RATIO: f64 = 0.3;
+/// The largest contact ratio accepted: past it the contact is no longer small against the
+/// body, which Hertz theory assumes (METHOD.md §7).
+pub const MAX_CONTACT_RATIO: f64 = 0.5;
 /// How far the mesh may depart from the shape: extents that should agree, and boundary nodes'
 /// distances from the centre (sphere) or axis (roller), relative to the radius.
 pub const SHAPE_TOLERANCE: f64 = 0.03;
@@ -311,15 +315,17 @@ fn vector(v: [f64; 3]) -> String {
 }
 
 /// The validation case of `shape`, measured on the mesh at `mesh` (an absolute path), with
-/// the particle spacing `spacing` (for the table).
+/// the particle spacing `spacing` (for the table), loaded so that Hertz's contact radius (or
+/// half-width) is `ratio` times the body's radius.
 pub fn mesh_case(
     mesh: &Path,
     format: Option<Format>,
     shape: &MeshShape,
     spacing: f64,
+    ratio: f64,
 ) -> ValidationCase {
     let radius = shape.radius;
-    let a = CONTACT_RATIO * radius;
+    let a = ratio * radius;
     let e_star = e_star_rigid(YOUNGS, POISSON);
     let mut unit = [0.0; 3];
     unit[shape.press] = 1.0;
@@ -407,7 +413,7 @@ master = "plane"
 radius = {penalty}             # a stiff penalty: penetration stays far below the approach
 "#,
         r = num(radius),
-        ratio = CONTACT_RATIO,
+        ratio = num(ratio),
         e = YOUNGS,
         density = num(DENSITY),
         point = vector(point),
@@ -446,12 +452,14 @@ keep = "negative"
     }
 }
 
-/// Reads the mesh at `path`, measures the shape, runs the Hertz scene into
-/// `folder/<sphere|roller>-mesh/` and compares it with theory.
+/// Reads the mesh at `path`, measures the shape, runs the Hertz scene with a contact radius
+/// (or half-width) of `ratio` times the body's radius into `folder/<sphere|roller>-mesh/` and
+/// compares it with theory.
 pub fn validate_mesh(
     path: &Path,
     format: Option<Format>,
     problem: Problem,
+    ratio: f64,
     folder: &Path,
     quiet: bool,
 ) -> Result<MeshValidation> {
@@ -459,6 +467,11 @@ pub fn validate_mesh(
         return Err(Error::input(
             "validate --mesh runs the Hertz sphere or roller: use --case sphere or --case roller",
         ));
+    }
+    if !(ratio > 0.0 && ratio <= MAX_CONTACT_RATIO) {
+        return Err(Error::input(format!(
+            "--contact-ratio {ratio}: expected the contact radius over the body's radius, above 0 and at most {MAX_CONTACT_RATIO} (Hertz theory assumes a contact small against the body; 0.15 or less is where it holds well)"
+        )));
     }
     let data = std::fs::read(path).map_err(|e| {
         crate::importers::ImportError::whole_file(path, "a readable file", e.to_string())
@@ -472,7 +485,7 @@ pub fn validate_mesh(
     let spacing = discretize(&mesh, None)?.spacing;
     let shape = measure(&mesh, path, problem, 1e-6 * spacing)?;
     drop(mesh);
-    let a = CONTACT_RATIO * shape.radius;
+    let a = ratio * shape.radius;
     let contact_spacings = a / spacing;
     let mut warnings = Vec::new();
     if contact_spacings < MIN_CONTACT_SPACINGS {
@@ -481,7 +494,7 @@ pub fn validate_mesh(
         ));
     }
     let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
-    let case = mesh_case(&absolute, format, &shape, spacing);
+    let case = mesh_case(&absolute, format, &shape, spacing, ratio);
     if !quiet {
         eprintln!(
             "{} on {}: R = {:.4} m, Δ = {spacing:.4} m, a/Δ = {contact_spacings:.1} ...",
