@@ -9,6 +9,17 @@ pub type Vec3 = Vector3<f64>;
 /// Marks a mesh node that is not a particle.
 pub const NOT_A_PARTICLE: u32 = u32::MAX;
 
+/// `|v|` without overflow where its components are near f64's limit (a plane placed at
+/// 1e300 m); 0 for a zero vector, and not finite for a vector that is not.
+pub fn length(v: Vec3) -> f64 {
+    let m = v.amax();
+    if m > 0.0 && m.is_finite() {
+        m * (v / m).norm()
+    } else {
+        m
+    }
+}
+
 /// The unit vector along `v`, scaled first so that a scene's direction with huge components
 /// (`normal = [0, -1e300, 1]`, a direction along -y) does not overflow its norm into a zero
 /// vector. The caller has checked that `v` is finite and not zero.

@@ -81,7 +81,7 @@ fn check_planes(scene: &Scene, model: &Model) -> Result<()> {
             phi = phi.sup(p);
         }
         let centre = plo * 0.5 + phi * 0.5;
-        let outside = length(centre - centre.sup(&lo).inf(&hi));
+        let outside = crate::math::length(centre - centre.sup(&lo).inf(&hi));
         let gap = outside - size * std::f64::consts::FRAC_1_SQRT_2;
         if !(gap <= PLANE_RANGE * extent) {
             let key = if spec.translate.is_some() {
@@ -123,16 +123,6 @@ fn check_planes(scene: &Scene, model: &Model) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// `|v|` without overflow where its components are near f64's limit.
-fn length(v: Vec3) -> f64 {
-    let m = v.amax();
-    if m > 0.0 && m.is_finite() {
-        m * (v / m).norm()
-    } else {
-        m
-    }
 }
 
 /// A rigid plane whose normal points away from its slave body pushes the slave through itself:
