@@ -517,8 +517,43 @@ fn to_json<T: serde::Serialize>(v: &T) -> String {
     serde_json::to_string_pretty(v).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }
 
+/// How MPI launchers (`mpirun`, `mpiexec`) tell each process the job's size and its rank.
+const MPI_LAUNCHERS: [(&str, &str, &str); 3] = [
+    ("Open MPI", "OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"),
+    ("MPICH or Intel MPI", "PMI_SIZE", "PMI_RANK"),
+    ("MVAPICH", "MV2_COMM_WORLD_SIZE", "MV2_COMM_WORLD_RANK"),
+];
+
+/// This process's rank when an MPI launcher started several copies of it, with the error to
+/// stop on: a one-process build run N times would run the whole scene N times, racing on one
+/// output folder.
+fn several_mpi_copies() -> Option<(usize, Error)> {
+    let number = |var: &str| std::env::var(var).ok()?.trim().parse::<usize>().ok();
+    MPI_LAUNCHERS
+        .iter()
+        .find_map(|&(launcher, size_var, rank_var)| {
+            let size = number(size_var)?;
+            (size > 1).then(|| {
+                let error = Error::input(format!(
+                "started by an MPI launcher as {size} processes ({launcher}: {size_var}={size}), \
+                 but this pdcontact runs as one process: each copy would run the whole job and \
+                 write the same output folder. Run it once, without mpirun; it uses every core \
+                 of the machine through threads (RAYON_NUM_THREADS sets how many)"
+            ));
+                (number(rank_var).unwrap_or(0), error)
+            })
+        })
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some((rank, e)) = several_mpi_copies() {
+        // Said once, by the first rank; every rank stops.
+        if rank == 0 {
+            eprintln!("error: {e}");
+        }
+        return ExitCode::from(e.exit_code() as u8);
+    }
     match run(cli) {
         Ok(Outcome::Done) => ExitCode::SUCCESS,
         Ok(Outcome::Interrupted) => ExitCode::from(EXIT_INTERRUPTED),

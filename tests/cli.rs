@@ -323,3 +323,46 @@ fn bench_pipeline_times_every_stage() {
     assert!((found - bonds).abs() <= 1e-6 * bonds, "{found} vs {bonds}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Started by an MPI launcher as several processes, the one-process build refuses (exit 2)
+/// instead of running the job once per rank into the same folder; the first rank says why,
+/// the others stop quietly. One process under a launcher (`mpirun -n 1`) runs as usual.
+#[test]
+fn several_mpi_copies_are_refused() {
+    let dir = temp_dir("mpi");
+    for (size_var, rank_var) in [
+        ("OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"),
+        ("PMI_SIZE", "PMI_RANK"),
+        ("MV2_COMM_WORLD_SIZE", "MV2_COMM_WORLD_RANK"),
+    ] {
+        for rank in ["0", "1"] {
+            let out = exe()
+                .args(["demo", "--quiet", "-o"])
+                .arg(dir.join("demo"))
+                .env(size_var, "2")
+                .env(rank_var, rank)
+                .output()
+                .expect("runs");
+            assert_eq!(out.status.code(), Some(2), "{size_var} rank {rank}");
+            let err = String::from_utf8_lossy(&out.stderr);
+            if rank == "0" {
+                assert!(
+                    err.contains("as 2 processes") && err.contains(size_var),
+                    "{err}"
+                );
+            } else {
+                assert!(err.is_empty(), "{err}");
+            }
+            assert!(!dir.join("demo").exists(), "nothing written");
+        }
+    }
+    let out = exe()
+        .args(["inspect", "--json"])
+        .arg(repo("meshes/block_hex.msh"))
+        .env("OMPI_COMM_WORLD_SIZE", "1")
+        .env("OMPI_COMM_WORLD_RANK", "0")
+        .output()
+        .expect("runs");
+    assert_eq!(json_of(&out)["nodes_total"], 726);
+    let _ = std::fs::remove_dir_all(&dir);
+}
