@@ -6,12 +6,12 @@
 //! | stage | module | what it holds |
 //! |---|---|---|
 //! | mesh files → [`Mesh`](importers::Mesh) | [`importers`] (crate `pdcontact-importers`) | CDB, MSH, INP readers, boundary faces |
-//! | shared vocabulary | [`math`], [`reduction`], [`error`] | `Vec3`, `NOT_A_PARTICLE`; ordered parallel sums; the error type and exit codes |
+//! | shared vocabulary | [`math`], [`reduction`], [`error`], [`parallel`] | `Vec3`, `NOT_A_PARTICLE`; ordered parallel sums; the error type and exit codes; the message-passing layer of a run over several processes |
 //! | mesh → PD case | [`case`] | [`generators`](case::generators) (built-in hex8 shapes), [`discretize`](case::discretize) (particles, volumes, spacing), [`neighbours`](case::neighbours) (cell lists, bond families), [`pairs`](case::pairs) (the bond-force pass, each pair once), [`correction`](case::correction) (volume and surface correction), [`surface`](case::surface) (eigenvalue surface detection), [`segments`](case::segments) (master segments, tributary areas), the assembled [`PdCase`](case::PdCase) and its symmetry ghosts |
 //! | scene file | [`scene`] | the TOML schema; `check.rs`: every check of its values |
 //! | bodies | [`body`] | deformable and rigid body types; `build.rs`: a body built from its `[[body]]` (mesh I/O, transform, symmetry clipping, rigid faces) |
 //! | contact | [`contact`] | `broad.rs` (Verlet lists), `narrow.rs` (projection, segment rules), `law.rs` (Hertz penalty), the pass that ties them, [`shortrange`](contact::shortrange) (node-to-node repulsion), [`estimate`](contact::estimate) (the Hertz contact a pair will make, and the warnings when its particles resolve it poorly), [`overlap`](contact::overlap) (bodies that start inside each other) |
-//! | model | [`model`] | a scene assembled: bodies, loads, supports, contact passes, and the force evaluation (Eq. 28) |
+//! | model | [`model`] | a scene assembled: bodies, loads, supports, contact passes, and the force evaluation (Eq. 28); [`domain`](model::domain): the model decomposed over the ranks of an MPI run |
 //! | solver | [`solver`] | `adr.rs` (adaptive dynamic relaxation), `explicit.rs` (velocity Verlet, stable step), `unheld.rs` (ADR: a loaded body gone past what it touches), the monitor and the checks they share |
 //! | output | [`output`] | [`vtk`](output::vtk) (VTK XML files), [`frames`](output::frames) (frames, `run.pvd`, progress), [`analysis`](output::analysis) (contact pressure and patch, Hertz and Sadowsky references) |
 //! | commands | [`run`], [`convert`] | a scene run to its frames and `summary.json` (`run/checks.rs`, `run/held.rs`: the checks before solving); a mesh turned into a case folder |
@@ -48,6 +48,7 @@ pub mod error;
 pub mod math;
 pub mod model;
 pub mod output;
+pub mod parallel;
 pub mod reduction;
 pub mod run;
 pub mod scene;

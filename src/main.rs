@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use pdcontact::case::{CaseOptions, DEFAULT_HORIZON_FACTOR};
 use pdcontact::importers::{Format, MeshSummary};
+use pdcontact::parallel::Comm;
 use pdcontact::run::{run_scene, RunOptions};
 use pdcontact::scene::Scene;
 use pdcontact::studies::bench::LATTICE_HORIZON_FACTOR;
@@ -280,7 +281,12 @@ fn interrupted(summary: &pdcontact::run::RunSummary) -> Outcome {
     }
 }
 
-fn run(cli: Cli) -> Result<Outcome, Error> {
+fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
+    if comm.is_some() && !matches!(cli.command, Command::Run { check: false, .. }) {
+        return Err(Error::input(
+            "under mpirun only `pdcontact run SCENE` runs over several processes: run the other commands once, without mpirun",
+        ));
+    }
     match cli.command {
         Command::Inspect { file, format, json } => {
             let data = std::fs::read(&file).map_err(|e| {
@@ -330,6 +336,7 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
                 output: None,
                 quiet,
                 stop: Some(stop_flag()),
+                comm: None,
             };
             let report = pdcontact::studies::demo::run_demo(&output, &options)?;
             print_report(json, &report, || report.to_text());
@@ -476,8 +483,12 @@ fn run(cli: Cli) -> Result<Outcome, Error> {
                 output,
                 quiet,
                 stop: Some(stop_flag()),
+                comm,
             };
-            let (_, summary) = run_scene(&scene, &options)?;
+            let (model, summary) = run_scene(&scene, &options)?;
+            if model.rank() != 0 {
+                return Ok(Outcome::Done);
+            }
             if json {
                 println!("{}", to_json(&summary));
             } else if !quiet {
@@ -536,9 +547,10 @@ fn several_mpi_copies() -> Option<(usize, Error)> {
             (size > 1).then(|| {
                 let error = Error::input(format!(
                 "started by an MPI launcher as {size} processes ({launcher}: {size_var}={size}), \
-                 but this pdcontact runs as one process: each copy would run the whole job and \
-                 write the same output folder. Run it once, without mpirun; it uses every core \
-                 of the machine through threads (RAYON_NUM_THREADS sets how many)"
+                 but this pdcontact was built without MPI: each copy would run the whole job and \
+                 write the same output folder. Run it once, without mpirun (it uses every core \
+                 of the machine through threads; RAYON_NUM_THREADS sets how many), or build it \
+                 with `cargo build --release --features mpi` to decompose a run over the processes"
             ));
                 (number(rank_var).unwrap_or(0), error)
             })
@@ -547,18 +559,53 @@ fn several_mpi_copies() -> Option<(usize, Error)> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    if let Some((rank, e)) = several_mpi_copies() {
-        // Said once, by the first rank; every rank stops.
-        if rank == 0 {
-            eprintln!("error: {e}");
+    let launched = several_mpi_copies();
+    // Built with MPI and started as several processes: the run is decomposed over them.
+    #[cfg(feature = "mpi")]
+    let (_universe, comm) = match launched {
+        Some(_) => match mpi::initialize() {
+            Some(universe) => {
+                let world: Arc<dyn Comm> =
+                    Arc::new(pdcontact::parallel::mpi::MpiComm::world(universe.world()));
+                (Some(universe), Some(world))
+            }
+            None => {
+                eprintln!("error: MPI could not be initialised");
+                return ExitCode::from(1);
+            }
+        },
+        None => (None, None),
+    };
+    #[cfg(not(feature = "mpi"))]
+    let comm: Option<Arc<dyn Comm>> = match launched {
+        Some((rank, e)) => {
+            // Said once, by the first rank; every rank stops.
+            if rank == 0 {
+                eprintln!("error: {e}");
+            }
+            return ExitCode::from(e.exit_code() as u8);
         }
-        return ExitCode::from(e.exit_code() as u8);
-    }
-    match run(cli) {
+        None => None,
+    };
+    match run(cli, comm.clone()) {
         Ok(Outcome::Done) => ExitCode::SUCCESS,
         Ok(Outcome::Interrupted) => ExitCode::from(EXIT_INTERRUPTED),
         Err(e) => {
-            eprintln!("error: {e}");
+            match comm {
+                // Every rank reads the same input and reduces the same figures, so they fail
+                // alike and the first says why; a frame or summary that cannot be written
+                // fails on the first rank alone, which stops the others.
+                Some(c) => {
+                    if matches!(e, Error::Output { .. }) {
+                        eprintln!("error (rank {}): {e}", c.rank());
+                        c.abort(e.exit_code());
+                    }
+                    if c.rank() == 0 {
+                        eprintln!("error: {e}");
+                    }
+                }
+                None => eprintln!("error: {e}"),
+            }
             ExitCode::from(e.exit_code() as u8)
         }
     }

@@ -44,6 +44,7 @@ fn demo_converges_balances_and_loads_in_vtk() {
             output: None,
             quiet: true,
             stop: None,
+            comm: None,
         },
     )
     .expect("demo runs");

@@ -25,6 +25,7 @@ fn quiet(dir: &Path) -> RunOptions {
         output: Some(dir.to_path_buf()),
         quiet: true,
         stop: None,
+        comm: None,
     }
 }
 

@@ -69,6 +69,7 @@ fn short_range_punch_balances_and_carries_its_load() {
             output: Some(dir.clone()),
             quiet: true,
             stop: None,
+            comm: None,
         },
     )
     .expect("runs");

@@ -82,6 +82,7 @@ radius = 100.0
         output: None,
         quiet: true,
         stop: None,
+        comm: None,
     };
     let (model, summary) = run_scene(&scene, &options).expect("runs");
     assert!(summary.converged);

@@ -82,6 +82,9 @@ pub struct PdBody {
     pub contact_force: Vec<Vec3>,
     /// Extra stiffness from contact, for ADR's fictitious density and the stable step (N/m).
     pub contact_stiffness: Vec<f64>,
+    /// The particles this process moves: all of them, or one rank's range in a decomposed
+    /// run ([`crate::model::domain`]).
+    pub owned: std::ops::Range<usize>,
 }
 
 impl PdBody {
@@ -158,6 +161,7 @@ impl PdBody {
             force: vec![Vec3::zeros(); n],
             contact_force: vec![Vec3::zeros(); n],
             contact_stiffness: vec![0.0; n],
+            owned: 0..n,
             pairs: PairList::from_bonds(
                 bonds,
                 &bond_weight,
@@ -184,12 +188,14 @@ impl PdBody {
     }
 
     /// Strain energy `¼ Σ_directed w (|y| − L)²` (each pair counted twice; a bond to a mirror
-    /// image carries the half of its mirrored pair that belongs to this model).
+    /// image carries the half of its mirrored pair that belongs to this model), over the
+    /// bonds of the particles this process owns (all of them in one process).
     pub fn strain_energy(&self) -> f64 {
         let bonds = &self.case.bonds;
         let mut pos = Vec::new();
         self.extended_positions(&mut pos);
-        (0..self.len())
+        self.owned
+            .clone()
             .map(|i| {
                 let yi = pos[i];
                 bonds
@@ -210,11 +216,11 @@ impl PdBody {
             .sum()
     }
 
-    /// Kinetic energy.
+    /// Kinetic energy of the particles this process owns (all of them in one process).
     pub fn kinetic_energy(&self) -> f64 {
-        self.v
+        self.v[self.owned.clone()]
             .iter()
-            .zip(&self.mass)
+            .zip(&self.mass[self.owned.clone()])
             .map(|(v, m)| 0.5 * m * v.norm_squared())
             .sum()
     }

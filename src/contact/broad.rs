@@ -26,8 +26,15 @@ pub struct VerletList {
 impl ContactPass {
     /// Whether the two largest displacements since the last rebuild exceed the skin.
     pub(super) fn needs_rebuild(&self, sb: &PdBody, view: MasterView<'_>) -> bool {
+        self.moves(sb, view)
+            .is_none_or(|top| top[0] + top[1] > self.skin)
+    }
+
+    /// The two largest moves of the slaves and master nodes since the last rebuild (`None`
+    /// before the first).
+    pub(super) fn moves(&self, sb: &PdBody, view: MasterView<'_>) -> Option<[f64; 2]> {
         if !self.verlet.built {
-            return true;
+            return None;
         }
         let mut top = [0.0f64; 2];
         let mut push = |d: f64| {
@@ -44,7 +51,7 @@ impl ContactPass {
         for (k, &n) in self.master_nodes.iter().enumerate() {
             push((view.node(n) - self.verlet.master_ref[k]).norm());
         }
-        top[0] + top[1] > self.skin
+        Some(top)
     }
 
     /// Rebuilds the candidate lists from current positions.

@@ -124,8 +124,10 @@ pub struct ContactPass {
     pub cutoff: f64,
     /// Skin (0.3 Δ).
     pub skin: f64,
-    /// The slave body's surface particles.
+    /// The slave body's surface particles (in a decomposed run, those of this rank).
     pub slaves: Vec<u32>,
+    /// The slave body's surface particles over all ranks.
+    pub slave_count: usize,
     /// Master nodes used by segments (the nodes whose motion the rebuild rule tracks).
     master_nodes: Vec<u32>,
     /// Master node → segments (CSR over node index).
@@ -219,6 +221,7 @@ impl ContactPass {
             cutoff,
             skin: SKIN * spacing,
             slaves,
+            slave_count,
             master_nodes,
             node_seg_offsets: count,
             node_segs,
@@ -234,8 +237,31 @@ impl ContactPass {
     /// narrow phase). Forces are computed, not applied.
     pub fn detect(&mut self, bodies: &[Body]) {
         let sb = bodies[self.slave].as_pd().expect("slave is deformable");
+        let rebuild = self.needs_rebuild(sb, MasterView::of(&bodies[self.master]));
+        self.detect_with(bodies, rebuild);
+    }
+
+    /// The two largest moves of this pass's slaves and master nodes since the Verlet list was
+    /// built (`None` before it is): what decides a rebuild, to be combined over the ranks of a
+    /// decomposed run ([`crate::model::domain`]).
+    pub fn largest_moves(&self, bodies: &[Body]) -> Option<[f64; 2]> {
+        let sb = bodies[self.slave].as_pd().expect("slave is deformable");
+        self.moves(sb, MasterView::of(&bodies[self.master]))
+    }
+
+    /// Keeps the slaves of `owned` only: a rank of a decomposed run detects contact for its
+    /// own particles.
+    pub fn keep_slaves(&mut self, owned: std::ops::Range<usize>) {
+        self.slaves.retain(|&s| owned.contains(&(s as usize)));
+        self.held = vec![NO_SEGMENT; self.slaves.len()];
+        self.verlet = VerletList::default();
+    }
+
+    /// [`detect`](Self::detect) with the rebuild decided by the caller.
+    pub fn detect_with(&mut self, bodies: &[Body], rebuild: bool) {
+        let sb = bodies[self.slave].as_pd().expect("slave is deformable");
         let view = MasterView::of(&bodies[self.master]);
-        if self.needs_rebuild(sb, view) {
+        if rebuild {
             self.rebuild(sb, view);
         }
         let segs = view.segments();

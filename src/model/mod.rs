@@ -3,7 +3,13 @@
 //! `compute_forces` is one evaluation of Eq. 28: bond forces of every deformable body (Eq. 26
 //! with the surface and volume corrections), applied loads, and contact forces.
 
+pub mod domain;
+
+use std::sync::Arc;
+
 use rayon::prelude::*;
+
+use self::domain::Domain;
 
 use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
 use crate::case::pairs::{pair_forces, PairKinematics};
@@ -12,6 +18,7 @@ use crate::contact::shortrange::ShortRangePass;
 use crate::contact::{hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::error::Result;
 use crate::math::{Vec3, NOT_A_PARTICLE};
+use crate::parallel::Comm;
 use crate::scene::{excerpt, Axis, BodyKind, ContactMethod, Kinematics, PenaltyLaw, Scene};
 
 /// Bodies and contact passes of a scene.
@@ -25,6 +32,8 @@ pub struct Model {
     pub evaluations: usize,
     /// Scratch: current positions of each deformable body.
     positions: Vec<Vec<Vec3>>,
+    /// This rank's part, in a run decomposed over several processes.
+    pub domain: Option<Domain>,
 }
 
 impl Model {
@@ -128,6 +137,7 @@ impl Model {
             short_range,
             evaluations: 0,
             positions,
+            domain: None,
         })
     }
 
@@ -158,6 +168,63 @@ impl Model {
             .collect()
     }
 
+    /// Decomposes the model over the ranks of `comm` ([`domain`]): from here on this process
+    /// evaluates and moves its own particles. Collective.
+    pub fn distribute(&mut self, comm: Arc<dyn Comm>) -> Result<()> {
+        if !self.short_range.is_empty() {
+            return Err(crate::error::Error::input(
+                "contact method \"short_range\" runs in one process only: run this scene without mpirun",
+            ));
+        }
+        let domain = Domain::new(&self.bodies, &self.passes, comm);
+        let rank = domain.rank();
+        for (k, body) in self.bodies.iter_mut().enumerate() {
+            if let Some(pd) = body.as_pd_mut() {
+                pd.owned = domain.ranges[k][rank].clone();
+                pd.pairs = pd.pairs.restricted(pd.owned.clone());
+                pd.force_buffers = Default::default();
+            }
+        }
+        for pass in &mut self.passes {
+            pass.keep_slaves(domain.ranges[pass.slave][rank].clone());
+        }
+        self.domain = Some(domain);
+        Ok(())
+    }
+
+    /// In a decomposed run, gives every rank every particle's state (collective); otherwise
+    /// nothing. Call before reading the whole model: frames, checks, the summary.
+    pub fn gather(&mut self) {
+        if let Some(d) = &self.domain {
+            d.gather(&mut self.bodies);
+        }
+    }
+
+    /// `Σ_ranks mine[k]`, in rank order, in a decomposed run (collective); `mine` otherwise.
+    pub fn sum_over_ranks(&self, mine: Vec<f64>) -> Vec<f64> {
+        match &self.domain {
+            Some(d) => d.comm().sum(&mine),
+            None => mine,
+        }
+    }
+
+    /// The largest of every rank's `mine` (collective in a decomposed run).
+    pub fn max_over_ranks(&self, mine: f64) -> f64 {
+        match &self.domain {
+            Some(d) => d
+                .comm()
+                .all_gather(&[mine])
+                .into_iter()
+                .fold(mine, f64::max),
+            None => mine,
+        }
+    }
+
+    /// This process's rank (0 without decomposition).
+    pub fn rank(&self) -> usize {
+        self.domain.as_ref().map_or(0, Domain::rank)
+    }
+
     /// Total particles.
     pub fn particles(&self) -> usize {
         self.bodies
@@ -179,6 +246,9 @@ impl Model {
     /// Evaluates all forces at the current displacements.
     pub fn compute_forces(&mut self) {
         self.evaluations += 1;
+        if let Some(d) = &self.domain {
+            d.share_displacements(&mut self.bodies);
+        }
         for (body, pos) in self.bodies.iter_mut().zip(&mut self.positions) {
             match body {
                 Body::Deformable(pd) => internal_forces(pd, pos),
@@ -188,8 +258,18 @@ impl Model {
                 }
             }
         }
-        for k in 0..self.passes.len() {
-            self.passes[k].detect(&self.bodies);
+        match &self.domain {
+            Some(d) => {
+                let rebuild = d.rebuilds(&self.bodies, &self.passes);
+                for (pass, r) in self.passes.iter_mut().zip(rebuild) {
+                    pass.detect_with(&self.bodies, r);
+                }
+            }
+            None => {
+                for k in 0..self.passes.len() {
+                    self.passes[k].detect(&self.bodies);
+                }
+            }
         }
         for pass in &mut self.short_range {
             pass.detect(&self.bodies);
@@ -199,6 +279,9 @@ impl Model {
         }
         for pass in &self.short_range {
             pass.apply(&mut self.bodies);
+        }
+        if let Some(d) = &mut self.domain {
+            d.finish_contact(&mut self.bodies, &mut self.passes);
         }
     }
 
@@ -215,8 +298,19 @@ impl Model {
 
     /// Contacts found in the last evaluation.
     pub fn contact_count(&self) -> usize {
+        if let Some(d) = &self.domain {
+            return d.contacts.iter().sum();
+        }
         self.passes.iter().map(|p| p.contacts.len()).sum::<usize>()
             + self.short_range.iter().map(|p| p.touching).sum::<usize>()
+    }
+
+    /// The force on the slaves of pass `k` in the last evaluation (over all ranks).
+    pub fn slave_force(&self, k: usize) -> Vec3 {
+        match &self.domain {
+            Some(d) => d.slave_forces[k],
+            None => self.passes[k].contacts.iter().map(|c| c.force).sum(),
+        }
     }
 
     /// Missed contacts in the last evaluation.

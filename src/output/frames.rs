@@ -370,6 +370,9 @@ pub struct RunMonitor {
     /// The last step reported: number, (pseudo-)time and measure (residual or energy drift),
     /// so that a run that fails can still say how far it got.
     pub last_step: (usize, f64, f64),
+    /// Steps between frames: on the ranks of a decomposed run that write none, still the
+    /// steps at which the state is gathered ([`Monitor::wants_state`]).
+    pub every: Option<usize>,
 }
 
 impl RunMonitor {
@@ -395,6 +398,7 @@ impl RunMonitor {
             f
         });
         RunMonitor {
+            every: frames.as_ref().map(|f| f.every),
             frames,
             bar,
             label: if adr { "residual" } else { "energy drift" },
@@ -422,6 +426,10 @@ impl Monitor for RunMonitor {
             }
         }
         Ok(())
+    }
+
+    fn wants_state(&self, step: usize) -> bool {
+        self.every.is_some_and(|e| step.is_multiple_of(e))
     }
 
     fn load_increment(&mut self, model: &Model, factor: f64, iteration: usize) -> Result<()> {

@@ -19,6 +19,7 @@ use crate::model::Model;
 use crate::output::analysis::{contact_patch, fit_elliptic};
 use crate::output::vtk::write_atomically;
 use crate::output::{FrameWriter, RunMonitor};
+use crate::parallel::Comm;
 use crate::scene::{Motion, Scene, SolverKind};
 use crate::solver::{solve, RunStats};
 
@@ -31,6 +32,9 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Raised by Ctrl-C / SIGTERM: finish the current frame and stop.
     pub stop: Option<Arc<AtomicBool>>,
+    /// The processes of an MPI run (`mpirun -n N`, a build with the `mpi` feature): the
+    /// model is decomposed over them ([`crate::model::domain`]); rank 0 prints and writes.
+    pub comm: Option<Arc<dyn Comm>>,
 }
 
 /// Output paths of a run.
@@ -126,7 +130,7 @@ pub fn force_balance(model: &Model) -> (Vec3, Vec3, f64) {
     }
     if !has_rigid {
         for (k, p) in model.passes.iter().enumerate() {
-            let on_slaves = p.contacts.iter().map(|c| c.force).sum::<Vec3>();
+            let on_slaves = model.slave_force(k);
             // The second pass of a two-pass pair pushes the pair's master: on the pair's
             // slave body it acts through its reactions, the opposite of its slave forces.
             let mirrored = model.passes[..k]
@@ -162,7 +166,9 @@ fn patch_figures(model: &Model) -> (f64, f64) {
     for (k, b) in model.bodies.iter().enumerate() {
         if let Some(pd) = b.as_pd() {
             let f: f64 = pd.contact_force.iter().sum::<Vec3>().norm();
-            if f > 0.0 && best.is_none_or(|(g, _)| f > g) {
+            // Two bodies pressed together carry equal and opposite forces: the first of them
+            // wins, not the one that rounding makes larger in its last bits.
+            if f > 0.0 && best.is_none_or(|(g, _)| f > g * (1.0 + 1e-6)) {
                 best = Some((f, k));
             }
         }
@@ -223,20 +229,33 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
         .filter(|c| !matches!(c, std::path::Component::CurDir))
         .collect();
     let (mut model, warnings, contact_estimates) = check_scene(scene)?;
-    if !options.quiet {
+    if let Some(comm) = options.comm.clone().filter(|c| c.size() > 1) {
+        model.distribute(comm)?;
+    }
+    // In a decomposed run the first rank speaks and writes; the others only compute.
+    let root = model.rank() == 0;
+    if !options.quiet && root {
         for w in &warnings {
             eprintln!("warning: {w}");
         }
     }
-    let frames = FrameWriter::new(&folder, scene.output.every)?;
-    let pvd = frames.pvd_path();
+    let frames = if root {
+        Some(FrameWriter::new(&folder, scene.output.every)?)
+    } else {
+        None
+    };
+    let pvd = frames.as_ref().map_or_else(
+        || folder.join(crate::output::PVD_NAME),
+        FrameWriter::pvd_path,
+    );
     let stop = options.stop.clone().unwrap_or_default();
     let mut monitor = RunMonitor::new(
-        Some(frames),
-        options.quiet,
+        frames,
+        options.quiet || !root,
         scene.solver.kind == SolverKind::Adr,
         stop,
     );
+    monitor.every = Some(scene.output.every.max(1));
     let result = solve(&mut model, &scene.solver, &mut monitor);
     let summary_path = folder.join("summary.json");
     let (stats, error) = match result {
@@ -307,7 +326,9 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
         solver: stats,
         error: error.as_ref().map(ToString::to_string),
     };
-    write_summary(&summary_path, &summary)?;
+    if root {
+        write_summary(&summary_path, &summary)?;
+    }
     match error {
         Some(e) => Err(e),
         None => Ok((model, summary)),

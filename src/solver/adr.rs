@@ -154,6 +154,7 @@ pub fn adr(
                 }
             }
         }
+        model.gather();
         monitor.load_increment(model, scale, n)?;
         n = adr_increment(
             model,
@@ -168,6 +169,7 @@ pub fn adr(
             break;
         }
     }
+    model.gather();
     monitor.finish(model, n, n as f64)?;
     Ok(stats)
 }
@@ -186,6 +188,13 @@ fn adr_increment(
     stats.converged = false;
     let reference = applied_norm(model);
     model.compute_forces();
+    let reference = if reference > 0.0 {
+        reference
+    } else {
+        // A decomposed run: every rank reads every particle's contact force.
+        model.gather();
+        0.0
+    };
     let reference = if reference > 0.0 {
         reference
     } else {
@@ -220,7 +229,7 @@ fn adr_increment(
                         .passes
                         .iter()
                         .filter(|p| p.master == k)
-                        .map(|p| p.weight * p.law.max_tangent() * p.slaves.len() as f64)
+                        .map(|p| p.weight * p.law.max_tangent() * p.slave_count as f64)
                         .sum();
                     rigid_lambda[k] = rb.contact_stiffness.max(0.05 * all).max(f64::MIN_POSITIVE);
                 }
@@ -234,7 +243,7 @@ fn adr_increment(
     for (k, b) in model.bodies.iter_mut().enumerate() {
         match b {
             Body::Deformable(pd) => {
-                for i in 0..pd.len() {
+                for i in pd.owned.clone() {
                     let ff = free_factor(pd.fixed[i]);
                     pd.v[i] = pd.force[i].component_mul(&ff)
                         / (2.0 * lambda_of(&density[k], &pd.contact_stiffness, i));
@@ -262,44 +271,73 @@ fn adr_increment(
         // One pass over each body's particles for the finiteness check, the residual and the
         // damping's Rayleigh quotient (Eqs. 32-33): the bookkeeping of an iteration is then
         // this pass and the update below, next to the force pass.
+        // Per deformable body, over this process's particles; then over the ranks, in rank
+        // order, with the stop flag (every rank stops at the same iteration).
+        let mut local = Vec::new();
+        for (k, b) in model.bodies.iter().enumerate() {
+            if let Body::Deformable(pd) = b {
+                let (dens, prev) = (&density[k], &prev_f[k]);
+                let first = pd.owned.start;
+                let body = ordered_reduce(
+                    pd.owned.len(),
+                    AdrSums::default,
+                    |i| {
+                        let i = first + i;
+                        let ff = free_factor(pd.fixed[i]);
+                        let (u, v, f) = (pd.u[i], pd.v[i], pd.force[i]);
+                        let mut s = AdrSums {
+                            finite: u.iter().chain(f.iter()).all(|c| c.is_finite()),
+                            residual: f.component_mul(&ff).norm_squared(),
+                            ..AdrSums::default()
+                        };
+                        let lam = lambda_of(dens, &pd.contact_stiffness, i);
+                        for a in 0..3 {
+                            if ff[a] == 0.0 {
+                                continue;
+                            }
+                            if v[a] != 0.0 {
+                                let k1 = -(f[a] - prev[i][a]) / (lam * v[a]);
+                                s.num += u[a] * k1 * u[a];
+                            }
+                            s.den += u[a] * u[a];
+                        }
+                        s
+                    },
+                    AdrSums::add,
+                );
+                local.extend([
+                    f64::from(u8::from(!body.finite)),
+                    body.residual,
+                    body.num,
+                    body.den,
+                ]);
+            }
+        }
+        local.push(f64::from(u8::from(monitor.interrupted())));
+        let total = match &model.domain {
+            Some(d) => d.comm().sum(&local),
+            None => local,
+        };
+        let interrupted = total[total.len() - 1] > 0.0;
         let mut sum = AdrSums::default();
+        let mut at = 0;
         for (k, b) in model.bodies.iter().enumerate() {
             match b {
                 Body::Deformable(pd) => {
-                    let (dens, prev) = (&density[k], &prev_f[k]);
-                    let body = ordered_reduce(
-                        pd.len(),
-                        AdrSums::default,
-                        |i| {
-                            let ff = free_factor(pd.fixed[i]);
-                            let (u, v, f) = (pd.u[i], pd.v[i], pd.force[i]);
-                            let mut s = AdrSums {
-                                finite: u.iter().chain(f.iter()).all(|c| c.is_finite()),
-                                residual: f.component_mul(&ff).norm_squared(),
-                                ..AdrSums::default()
-                            };
-                            let lam = lambda_of(dens, &pd.contact_stiffness, i);
-                            for a in 0..3 {
-                                if ff[a] == 0.0 {
-                                    continue;
-                                }
-                                if v[a] != 0.0 {
-                                    let k1 = -(f[a] - prev[i][a]) / (lam * v[a]);
-                                    s.num += u[a] * k1 * u[a];
-                                }
-                                s.den += u[a] * u[a];
-                            }
-                            s
-                        },
-                        AdrSums::add,
-                    );
-                    if !body.finite {
+                    let t = &total[at..at + 4];
+                    at += 4;
+                    if t[0] > 0.0 {
                         return Err(Error::numerical(format!(
                             "non-finite displacement or force in body \"{}\" at iteration {n}: ADR diverged (likely cause: a penalty stiffness far above the bond stiffness, or a load that pushes a body through a surface)",
                             pd.name
                         )));
                     }
-                    sum = sum.add(body);
+                    sum = sum.add(AdrSums {
+                        finite: true,
+                        residual: t[1],
+                        num: t[2],
+                        den: t[3],
+                    });
                 }
                 Body::Rigid(rb) if rb.motion == Motion::Free => {
                     let f = (rb.load + rb.contact_force).dot(&rb.axis);
@@ -327,6 +365,7 @@ fn adr_increment(
             break;
         }
         if n.is_multiple_of(EVERY) {
+            model.gather();
             if let Some(u) = past.find(model, n) {
                 stats.unheld = Some(u);
                 break;
@@ -337,7 +376,7 @@ fn adr_increment(
                 "ADR diverged at iteration {n}: the out-of-balance force grew to {rel:.3e} of the load (it was {best:.3e}); likely cause: contact stiffness far above the bond stiffness"
             )));
         }
-        if monitor.interrupted() {
+        if interrupted {
             stats.interrupted = true;
             break;
         }
@@ -354,12 +393,15 @@ fn adr_increment(
                     let dens = &density[k];
                     let pd = &mut **pd;
                     let kc = &pd.contact_stiffness;
-                    pd.v.par_iter_mut()
-                        .zip(pd.u.par_iter_mut())
-                        .zip(prev_f[k].par_iter_mut())
+                    let own = pd.owned.clone();
+                    pd.v[own.clone()]
+                        .par_iter_mut()
+                        .zip(pd.u[own.clone()].par_iter_mut())
+                        .zip(prev_f[k][own.clone()].par_iter_mut())
                         .enumerate()
                         .with_min_len(1024)
                         .for_each(|(i, ((v, u), prev))| {
+                            let i = own.start + i;
                             let ff = free_factor(pd.fixed[i]);
                             let f = pd.force[i];
                             let lam = lambda_of(dens, kc, i);
@@ -382,6 +424,9 @@ fn adr_increment(
                 }
                 Body::Rigid(_) => {}
             }
+        }
+        if monitor.wants_state(n) {
+            model.gather();
         }
         monitor.step(model, n, n as f64, rel)?;
     }

@@ -27,8 +27,10 @@ pub fn stable_time_step(model: &Model) -> f64 {
             let mut contact = vec![0.0f64; pd.len()];
             for p in model.passes.iter() {
                 if p.slave == k {
-                    for &s in &p.slaves {
-                        contact[s as usize] += p.weight * p.law.max_tangent();
+                    // Every slave of the body (its surface particles), also where a decomposed
+                    // run's pass holds one rank's only.
+                    for s in (0..pd.len()).filter(|&i| pd.case.surface.is_surface[i]) {
+                        contact[s] += p.weight * p.law.max_tangent();
                     }
                 }
                 if p.master == k {
@@ -125,29 +127,29 @@ fn highest_eigenvalue(pd: &PdBody, contact: &[f64]) -> f64 {
 
 /// Total energy: kinetic + strain + contact − work of constant applied loads − work done by
 /// moving rigid bodies (accumulated by the caller).
-fn energies(model: &Model) -> (f64, f64) {
-    let mut physical = 0.0;
-    let mut work = 0.0;
+fn energies(model: &Model, dissipated: f64) -> (f64, f64, f64) {
+    // The particles' terms over this process's particles, summed over the ranks; the rigid
+    // bodies' (replicated on every rank) once.
+    let mut mine = [0.0, 0.0, model.contact_energy(), dissipated];
+    for pd in model.bodies.iter().filter_map(Body::as_pd) {
+        mine[0] += pd.kinetic_energy() + pd.strain_energy();
+        mine[1] += pd.load[pd.owned.clone()]
+            .iter()
+            .zip(&pd.u[pd.owned.clone()])
+            .map(|(f, u)| f.dot(u))
+            .sum::<f64>();
+    }
+    let total = model.sum_over_ranks(mine.to_vec());
+    let (mut physical, mut work) = (total[0] + total[2], total[1]);
     for b in &model.bodies {
-        match b {
-            Body::Deformable(pd) => {
-                physical += pd.kinetic_energy() + pd.strain_energy();
-                work += pd
-                    .load
-                    .iter()
-                    .zip(&pd.u)
-                    .map(|(f, u)| f.dot(u))
-                    .sum::<f64>();
-            }
-            Body::Rigid(rb) if rb.motion == Motion::Free => {
+        if let Body::Rigid(rb) = b {
+            if rb.motion == Motion::Free {
                 physical += 0.5 * rb.mass * rb.axial_speed * rb.axial_speed;
                 work += rb.load.dot(&rb.axis) * rb.translation.dot(&rb.axis);
             }
-            Body::Rigid(_) => {}
         }
     }
-    physical += model.contact_energy();
-    (physical, work)
+    (physical, work, total[3])
 }
 
 /// Explicit dynamics by velocity Verlet.
@@ -194,7 +196,7 @@ pub fn explicit(
         .fold(0.0, f64::max);
 
     model.compute_forces();
-    let (e0_phys, w0) = energies(model);
+    let (e0_phys, w0, _) = energies(model, 0.0);
     let mut e0 = e0_phys - w0;
     let mut rigid_work = 0.0;
     let mut e_scale = e0_phys.abs();
@@ -208,7 +210,7 @@ pub fn explicit(
         for b in model.bodies.iter_mut() {
             match b {
                 Body::Deformable(pd) => {
-                    for i in 0..pd.len() {
+                    for i in pd.owned.clone() {
                         let ff = free_factor(pd.fixed[i]);
                         pd.v[i] =
                             (pd.v[i] + pd.force[i] * (0.5 * dt / pd.mass[i])).component_mul(&ff);
@@ -236,7 +238,7 @@ pub fn explicit(
         for b in model.bodies.iter_mut() {
             match b {
                 Body::Deformable(pd) => {
-                    for i in 0..pd.len() {
+                    for i in pd.owned.clone() {
                         let ff = free_factor(pd.fixed[i]);
                         pd.v[i] =
                             (pd.v[i] + pd.force[i] * (0.5 * dt / pd.mass[i])).component_mul(&ff);
@@ -252,14 +254,37 @@ pub fn explicit(
         if damping > 0.0 {
             for pd in model.bodies.iter_mut().filter_map(Body::as_pd_mut) {
                 let before = pd.kinetic_energy();
-                pd.v.iter_mut().for_each(|v| *v *= decay);
+                let own = pd.owned.clone();
+                pd.v[own].iter_mut().for_each(|v| *v *= decay);
                 dissipated += before * (1.0 - decay * decay);
             }
         }
         let t = step as f64 * dt;
         stats.iterations = step;
         stats.time = t;
-        check_finite(model, step, "step")?;
+        // One sum over the ranks a step: non-finite values, the kinetic energy and the work of
+        // the loads over this process's particles, and the stop flag.
+        let mut mine = [0.0, 0.0, 0.0, f64::from(u8::from(monitor.interrupted()))];
+        for pd in model.bodies.iter().filter_map(Body::as_pd) {
+            let own = pd.owned.clone();
+            let finite = pd.u[own.clone()]
+                .iter()
+                .chain(&pd.force[own.clone()])
+                .all(|v| v.iter().all(|c| c.is_finite()));
+            mine[0] += f64::from(u8::from(!finite));
+            mine[1] += pd.kinetic_energy();
+            mine[2] += pd.load[own.clone()]
+                .iter()
+                .zip(&pd.u[own])
+                .map(|(f, u)| f.dot(u))
+                .sum::<f64>();
+        }
+        let total = model.sum_over_ranks(mine.to_vec());
+        if total[0] > 0.0 {
+            model.gather();
+            check_finite(model, step, "step")?;
+        }
+        let interrupted = total[3] > 0.0;
         check_missed(model, step, "step", Some(dt))?;
         let contacts = model.contact_count();
         if contacts > 0 {
@@ -272,28 +297,13 @@ pub fn explicit(
         }
         // Every step, cheaply: kinetic energy cannot exceed the energy the system holds and
         // has been given. An unstable step makes it explode within a few steps.
-        let kinetic: f64 = model
-            .bodies
-            .iter()
-            .map(|b| match b {
-                Body::Deformable(pd) => pd.kinetic_energy(),
-                Body::Rigid(rb) => 0.5 * rb.mass * rb.axial_speed * rb.axial_speed,
-            })
-            .sum();
-        let supplied: f64 = model
-            .bodies
-            .iter()
-            .map(|b| match b {
-                Body::Deformable(pd) => pd
-                    .load
-                    .iter()
-                    .zip(&pd.u)
-                    .map(|(f, u)| f.dot(u))
-                    .sum::<f64>(),
-                Body::Rigid(rb) => rb.load.dot(&rb.translation),
-            })
-            .sum::<f64>()
-            + rigid_work;
+        let (mut kinetic, mut supplied) = (total[1], total[2] + rigid_work);
+        for b in &model.bodies {
+            if let Body::Rigid(rb) = b {
+                kinetic += 0.5 * rb.mass * rb.axial_speed * rb.axial_speed;
+                supplied += rb.load.dot(&rb.translation);
+            }
+        }
         let available = e0_phys.abs() + supplied.abs() + e_scale;
         if !(kinetic <= 1.5 * available + f64::MIN_POSITIVE) {
             return Err(Error::numerical(format!(
@@ -302,7 +312,7 @@ pub fn explicit(
             )));
         }
         if step.is_multiple_of(check_every) || step == steps {
-            let (phys, work) = energies(model);
+            let (phys, work, dissipated) = energies(model, dissipated);
             e_scale = e_scale.max(phys.abs());
             let total = phys - work - rigid_work + dissipated;
             if step == check_every && e0 == 0.0 {
@@ -316,29 +326,35 @@ pub fn explicit(
                     100.0 * drift
                 )));
             }
-            let umax = model
-                .bodies
-                .iter()
-                .filter_map(Body::as_pd)
-                .flat_map(|pd| pd.u.iter())
-                .map(|u| u.norm())
-                .fold(0.0, f64::max);
+            let umax = model.max_over_ranks(
+                model
+                    .bodies
+                    .iter()
+                    .filter_map(Body::as_pd)
+                    .flat_map(|pd| pd.u[pd.owned.clone()].iter())
+                    .map(|u| u.norm())
+                    .fold(0.0, f64::max),
+            );
             if umax > 10.0 * size.max(f64::MIN_POSITIVE) {
                 return Err(Error::numerical(format!(
                     "displacement grew to {umax:.3e} m (10x the body size) by step {step}: the run blew up; likely cause: time step dt = {dt:.3e} s"
                 )));
             }
         }
+        if monitor.wants_state(step) {
+            model.gather();
+        }
         monitor.step(model, step, t, stats.energy_drift)?;
         if spec.stop_after_rebound && stats.rebounded {
             break;
         }
-        if monitor.interrupted() {
+        if interrupted {
             stats.interrupted = true;
             break;
         }
     }
     stats.converged = !stats.interrupted;
+    model.gather();
     monitor.finish(model, step, stats.time)?;
     Ok(stats)
 }

@@ -62,6 +62,7 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
             output: Some(dir.clone()),
             quiet,
             stop: None,
+            comm: None,
         },
     )?;
     let wall = start.elapsed().as_secs_f64();

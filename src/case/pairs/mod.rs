@@ -149,6 +149,45 @@ impl PairList {
         }
     }
 
+    /// The pairs and image bonds that act on the particles of `owned`: a pair `(i, j)` with
+    /// either end in the range, an image bond whose particle is in it. A pass over the result
+    /// gives every particle of `owned` its whole force (the others a part of theirs): what one
+    /// rank of a decomposed run evaluates ([`crate::parallel`]).
+    pub fn restricted(&self, owned: std::ops::Range<usize>) -> PairList {
+        let keep = |list: &BondList, w: &[f32], both: bool| {
+            let mut out = BondList {
+                offsets: Vec::with_capacity(self.particles + 1),
+                ..BondList::default()
+            };
+            let mut weight = Vec::new();
+            out.offsets.push(0);
+            for i in 0..self.particles {
+                let mine = owned.contains(&i);
+                for b in list.range(i) {
+                    let j = list.partner[b] as usize;
+                    if mine || (both && owned.contains(&j)) {
+                        out.partner.push(list.partner[b]);
+                        out.length.push(list.length[b]);
+                        weight.push(w[b]);
+                    }
+                }
+                out.offsets.push(out.partner.len());
+            }
+            (out, weight)
+        };
+        let (pairs, pair_weight) = keep(&self.pairs, &self.pair_weight, true);
+        let (images, image_weight) = keep(&self.images, &self.image_weight, false);
+        PairList {
+            id: next_id(),
+            particles: self.particles,
+            share: self.share.clone(),
+            pairs,
+            pair_weight,
+            images,
+            image_weight,
+        }
+    }
+
     /// Real particles.
     pub fn particles(&self) -> usize {
         self.particles

@@ -1,0 +1,309 @@
+//! A model decomposed over the ranks of a run ([`crate::parallel::Comm`]).
+//!
+//! Every rank builds the whole model (the meshes, the case, the bodies: the same input gives
+//! the same model everywhere) and then owns a range of each deformable body's particles, cut
+//! along the Morton order with equal bond counts ([`split_by_cost`]). A rank evaluates the
+//! bond pairs that touch its particles ([`PairList::restricted`](crate::case::pairs::PairList::restricted)),
+//! detects contact for its own slave particles, and moves only its own particles. Each force
+//! evaluation it first receives the displacements of its ghosts from their owners: the bond
+//! partners of its particles (one horizon deep, mirror images through their sources) and, on
+//! a deformable master, every node of a master segment, so that any slave it owns can touch
+//! any segment. After the contact pass the reactions it put on other ranks' master nodes go to
+//! their owners, and the forces on rigid bodies, the contact counts and the missed contacts
+//! are summed over the ranks in rank order. The Verlet lists are rebuilt when the two largest
+//! moves over all ranks pass the skin, as in one process.
+//!
+//! Rigid bodies are replicated: every rank moves them alike from the summed forces. What needs
+//! the whole state (frames, the summary, the unheld-body check) calls [`Domain::gather`]
+//! first, which gives every rank every particle's state.
+
+use std::fmt;
+use std::ops::Range;
+use std::sync::Arc;
+
+use crate::body::Body;
+use crate::contact::ContactPass;
+use crate::math::Vec3;
+use crate::parallel::{owner, split_by_cost, Comm};
+
+/// Values per particle that [`Domain::gather`] moves: `u`, `v`, force, contact force (3
+/// each) and the contact stiffness.
+const STATE: usize = 13;
+
+/// This rank's part of a decomposed model and the messages that keep it current.
+#[derive(Clone)]
+pub struct Domain {
+    comm: Arc<dyn Comm>,
+    /// Per body: every rank's owned range (empty for a rigid body).
+    pub ranges: Vec<Vec<Range<usize>>>,
+    /// Per body and rank: the particles this rank sends to it every evaluation.
+    send: Vec<Vec<Vec<u32>>>,
+    /// Per body and rank: the ghosts this rank receives from it, in the order they are sent.
+    recv: Vec<Vec<Vec<u32>>>,
+    /// Per body: a deformable master of some pass (its nodes take reactions from other ranks'
+    /// slaves).
+    master: Vec<bool>,
+    /// Per pass: contacts over all ranks in the last evaluation.
+    pub contacts: Vec<usize>,
+    /// Per pass: the force on its slaves over all ranks in the last evaluation.
+    pub slave_forces: Vec<Vec3>,
+}
+
+impl fmt::Debug for Domain {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Domain")
+            .field("rank", &self.comm.rank())
+            .field("size", &self.comm.size())
+            .field("ranges", &self.ranges)
+            .finish()
+    }
+}
+
+impl Domain {
+    /// Cuts every deformable body of `bodies` over the ranks of `comm` and sets up the ghost
+    /// exchanges. Collective.
+    pub fn new(bodies: &[Body], passes: &[ContactPass], comm: Arc<dyn Comm>) -> Domain {
+        let (rank, size) = (comm.rank(), comm.size());
+        let master: Vec<bool> = (0..bodies.len())
+            .map(|k| {
+                matches!(bodies[k], Body::Deformable(_)) && passes.iter().any(|p| p.master == k)
+            })
+            .collect();
+        let mut ranges = Vec::new();
+        let mut send = Vec::new();
+        let mut recv = Vec::new();
+        for (k, body) in bodies.iter().enumerate() {
+            let Some(pd) = body.as_pd() else {
+                ranges.push(Vec::new());
+                send.push(vec![Vec::new(); size]);
+                recv.push(vec![Vec::new(); size]);
+                continue;
+            };
+            let n = pd.len();
+            let bonds = &pd.case.bonds;
+            let cost: Vec<usize> = (0..n).map(|i| bonds.range(i).len() + 1).collect();
+            let r = split_by_cost(&cost, size);
+            let mine = r[rank].clone();
+            let mut need = vec![false; n];
+            for i in mine.clone() {
+                for b in bonds.range(i) {
+                    let j = bonds.partner[b] as usize;
+                    let real = if j < n {
+                        j
+                    } else {
+                        pd.case.ghosts.source[j - n] as usize
+                    };
+                    need[real] = true;
+                }
+            }
+            if master[k] {
+                for seg in pd.segments() {
+                    for &node in &seg.nodes {
+                        need[node as usize] = true;
+                    }
+                }
+            }
+            let mut asks: Vec<Vec<f64>> = vec![Vec::new(); size];
+            let mut mine_recv: Vec<Vec<u32>> = vec![Vec::new(); size];
+            for (j, _) in need
+                .iter()
+                .enumerate()
+                .filter(|(j, &x)| x && !mine.contains(j))
+            {
+                let q = owner(&r, j);
+                asks[q].push(j as f64);
+                mine_recv[q].push(j as u32);
+            }
+            let asked = comm.exchange(&asks);
+            send.push(
+                asked
+                    .into_iter()
+                    .map(|v| v.into_iter().map(|j| j as u32).collect())
+                    .collect(),
+            );
+            recv.push(mine_recv);
+            ranges.push(r);
+        }
+        Domain {
+            comm,
+            ranges,
+            send,
+            recv,
+            master,
+            contacts: vec![0; passes.len()],
+            slave_forces: vec![Vec3::zeros(); passes.len()],
+        }
+    }
+
+    /// This rank.
+    pub fn rank(&self) -> usize {
+        self.comm.rank()
+    }
+
+    /// The message layer.
+    pub fn comm(&self) -> &dyn Comm {
+        &*self.comm
+    }
+
+    /// Ghosts this rank receives, over all bodies.
+    pub fn ghosts(&self) -> usize {
+        self.recv.iter().flatten().map(Vec::len).sum()
+    }
+
+    /// Gives every ghost its owner's displacement. Collective.
+    pub fn share_displacements(&self, bodies: &mut [Body]) {
+        let size = self.comm.size();
+        let mut out: Vec<Vec<f64>> = vec![Vec::new(); size];
+        for (k, body) in bodies.iter().enumerate() {
+            let Some(pd) = body.as_pd() else { continue };
+            for (q, list) in self.send[k].iter().enumerate() {
+                out[q].extend(list.iter().flat_map(|&i| pd.u[i as usize].iter().copied()));
+            }
+        }
+        let got = self.comm.exchange(&out);
+        let mut at = vec![0usize; size];
+        for (k, body) in bodies.iter_mut().enumerate() {
+            let Some(pd) = body.as_pd_mut() else { continue };
+            for (q, list) in self.recv[k].iter().enumerate() {
+                for &i in list {
+                    let v = &got[q][at[q]..at[q] + 3];
+                    pd.u[i as usize] = Vec3::new(v[0], v[1], v[2]);
+                    at[q] += 3;
+                }
+            }
+        }
+    }
+
+    /// Sends the contact reactions this rank's slaves put on other ranks' master nodes to
+    /// their owners, who add them; then sums the forces on rigid bodies, the contacts and the
+    /// missed contacts of every pass over the ranks. Collective.
+    pub fn finish_contact(&mut self, bodies: &mut [Body], passes: &mut [ContactPass]) {
+        let size = self.comm.size();
+        if self.master.iter().any(|&m| m) {
+            let mut out: Vec<Vec<f64>> = vec![Vec::new(); size];
+            for (k, body) in bodies.iter_mut().enumerate() {
+                if !self.master[k] {
+                    continue;
+                }
+                let pd = body
+                    .as_pd_mut()
+                    .expect("a master in the list is deformable");
+                for (q, list) in self.recv[k].iter().enumerate() {
+                    for &i in list {
+                        let i = i as usize;
+                        let (f, kc) = (pd.contact_force[i], pd.contact_stiffness[i]);
+                        if f != Vec3::zeros() || kc != 0.0 {
+                            out[q].extend([k as f64, i as f64, f.x, f.y, f.z, kc]);
+                            pd.contact_force[i] = Vec3::zeros();
+                            pd.contact_stiffness[i] = 0.0;
+                        }
+                    }
+                }
+            }
+            for part in self.comm.exchange(&out) {
+                for r in part.chunks_exact(6) {
+                    let pd = bodies[r[0] as usize]
+                        .as_pd_mut()
+                        .expect("reactions go to deformable bodies");
+                    let i = r[1] as usize;
+                    let f = Vec3::new(r[2], r[3], r[4]);
+                    pd.force[i] += f;
+                    pd.contact_force[i] += f;
+                    pd.contact_stiffness[i] += r[5];
+                }
+            }
+        }
+        let mut mine = Vec::new();
+        for body in bodies.iter() {
+            if let Body::Rigid(rb) = body {
+                mine.extend(rb.contact_force.iter().copied());
+                mine.push(rb.contact_stiffness);
+            }
+        }
+        for p in passes.iter() {
+            mine.push(p.contacts.len() as f64);
+            mine.push(p.missed as f64);
+            mine.extend(p.contacts.iter().map(|c| c.force).sum::<Vec3>().iter());
+        }
+        let total = self.comm.sum(&mine);
+        let mut at = 0;
+        for body in bodies.iter_mut() {
+            if let Body::Rigid(rb) = body {
+                rb.contact_force = Vec3::new(total[at], total[at + 1], total[at + 2]);
+                rb.contact_stiffness = total[at + 3];
+                at += 4;
+            }
+        }
+        for (k, p) in passes.iter_mut().enumerate() {
+            self.contacts[k] = total[at] as usize;
+            p.missed = total[at + 1] as usize;
+            self.slave_forces[k] = Vec3::new(total[at + 2], total[at + 3], total[at + 4]);
+            at += 5;
+        }
+    }
+
+    /// Per pass, whether its Verlet list is to be rebuilt: the two largest moves since the
+    /// last rebuild, over all ranks' slaves and the master's nodes, pass the skin. Collective.
+    pub fn rebuilds(&self, bodies: &[Body], passes: &[ContactPass]) -> Vec<bool> {
+        let mine: Vec<f64> = passes
+            .iter()
+            .flat_map(|p| p.largest_moves(bodies).unwrap_or([f64::INFINITY; 2]))
+            .collect();
+        if mine.is_empty() {
+            return Vec::new();
+        }
+        let all = self.comm.all_gather(&mine);
+        let per_rank = mine.len();
+        passes
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let mut top = [0.0f64; 2];
+                for r in all.chunks_exact(per_rank) {
+                    for d in [r[2 * k], r[2 * k + 1]] {
+                        if d > top[0] {
+                            top[1] = top[0];
+                            top[0] = d;
+                        } else if d > top[1] {
+                            top[1] = d;
+                        }
+                    }
+                }
+                top[0] + top[1] > p.skin
+            })
+            .collect()
+    }
+
+    /// Gives every rank the state (displacement, velocity, forces, contact stiffness) of every
+    /// particle, from its owner. Collective.
+    pub fn gather(&self, bodies: &mut [Body]) {
+        let rank = self.comm.rank();
+        let mut mine = Vec::new();
+        for (k, body) in bodies.iter().enumerate() {
+            let Some(pd) = body.as_pd() else { continue };
+            for i in self.ranges[k][rank].clone() {
+                mine.extend(pd.u[i].iter());
+                mine.extend(pd.v[i].iter());
+                mine.extend(pd.force[i].iter());
+                mine.extend(pd.contact_force[i].iter());
+                mine.push(pd.contact_stiffness[i]);
+            }
+        }
+        let all = self.comm.all_gather_varcount(&mine);
+        for (q, part) in all.iter().enumerate() {
+            let mut values = part.chunks_exact(STATE);
+            for (k, body) in bodies.iter_mut().enumerate() {
+                let Some(pd) = body.as_pd_mut() else { continue };
+                for i in self.ranges[k][q].clone() {
+                    let s = values.next().expect("every owner sends its whole range");
+                    let v3 = |a: usize| Vec3::new(s[a], s[a + 1], s[a + 2]);
+                    pd.u[i] = v3(0);
+                    pd.v[i] = v3(3);
+                    pd.force[i] = v3(6);
+                    pd.contact_force[i] = v3(9);
+                    pd.contact_stiffness[i] = s[12];
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,125 @@
+//! Several processes on one run: the messages a decomposed model needs, behind a trait, so
+//! that the library does not depend on an MPI installation.
+//!
+//! [`Comm`] is what [`crate::model::domain`] asks of a message-passing layer: the rank and
+//! size, sums in rank order, and an exchange of `f64` buffers between every pair of ranks.
+//! Built with the cargo feature `mpi`, [`mpi::MpiComm`] implements it on the system's MPI
+//! (rsmpi); without it there is one process and nothing here is used.
+//!
+//! Indices travel as `f64`: a particle index is below 2⁵³, so it is exact, and one buffer
+//! type keeps the trait small.
+
+#[cfg(feature = "mpi")]
+pub mod mpi;
+
+use std::ops::Range;
+
+/// A message-passing layer over `size()` processes. Every method is collective: all ranks
+/// call it, in the same order.
+pub trait Comm: Send + Sync {
+    /// This process's rank, `0..size()`.
+    fn rank(&self) -> usize;
+    /// Number of processes.
+    fn size(&self) -> usize;
+    /// Every rank's `mine`, concatenated in rank order (`mine` has the same length on all
+    /// ranks).
+    fn all_gather(&self, mine: &[f64]) -> Vec<f64>;
+    /// Every rank's `mine`, one vector per rank (lengths may differ).
+    fn all_gather_varcount(&self, mine: &[f64]) -> Vec<Vec<f64>>;
+    /// Sends `send[q]` to rank `q` and returns what each rank sent to this one.
+    fn exchange(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>>;
+    /// Stops every rank with `code`: what a rank does when it fails alone (the others would
+    /// wait for it in the next collective call).
+    fn abort(&self, code: i32) -> !;
+
+    /// `Σ_ranks mine[k]` for each `k`, the ranks' terms added in rank order, so that the same
+    /// decomposition gives the same bits whatever the scheduling.
+    fn sum(&self, mine: &[f64]) -> Vec<f64> {
+        let all = self.all_gather(mine);
+        let n = mine.len();
+        let mut out = vec![0.0; n];
+        for part in all.chunks_exact(n.max(1)).take(self.size()) {
+            for (o, v) in out.iter_mut().zip(part) {
+                *o += v;
+            }
+        }
+        out
+    }
+
+    /// Whether any rank says yes.
+    fn any(&self, mine: bool) -> bool {
+        self.sum(&[f64::from(u8::from(mine))])[0] > 0.0
+    }
+}
+
+impl std::fmt::Debug for dyn Comm {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "rank {} of {}", self.rank(), self.size())
+    }
+}
+
+/// Cuts `0..cost.len()` into `parts` consecutive ranges of about equal total cost (`cost[i]`
+/// is item `i`'s, e.g. its bond count): the owned ranges of a decomposition. Items are in
+/// Morton order ([`crate::case::discretize`]), so a range of them is a compact piece of the
+/// body, as a space-filling-curve partitioner makes.
+pub fn split_by_cost(cost: &[usize], parts: usize) -> Vec<Range<usize>> {
+    let parts = parts.max(1);
+    let mut prefix = Vec::with_capacity(cost.len() + 1);
+    prefix.push(0usize);
+    for c in cost {
+        prefix.push(prefix.last().copied().unwrap_or(0) + c);
+    }
+    let total = *prefix.last().unwrap_or(&0);
+    let cut = |r: usize| -> usize {
+        if r == 0 {
+            return 0;
+        }
+        if r == parts {
+            return cost.len();
+        }
+        // The first item whose cumulative cost reaches the rank's share.
+        let target = (total as u128 * r as u128 / parts as u128) as usize;
+        prefix.partition_point(|&p| p < target).min(cost.len())
+    };
+    (0..parts).map(|r| cut(r)..cut(r + 1)).collect()
+}
+
+/// The rank whose range holds `i`.
+pub fn owner(ranges: &[Range<usize>], i: usize) -> usize {
+    ranges.partition_point(|r| r.end <= i).min(ranges.len() - 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn split_balances_cost_and_covers_every_item_once() {
+        let cost: Vec<usize> = (0..1000).map(|i| 10 + (i * 37) % 50).collect();
+        for parts in 1..=7 {
+            let r = split_by_cost(&cost, parts);
+            assert_eq!(r.len(), parts);
+            assert_eq!(r[0].start, 0);
+            assert_eq!(r[parts - 1].end, cost.len());
+            for w in r.windows(2) {
+                assert_eq!(w[0].end, w[1].start);
+            }
+            let total: usize = cost.iter().sum();
+            for range in &r {
+                let c: usize = cost[range.clone()].iter().sum();
+                let share = total as f64 / parts as f64;
+                assert!((c as f64 - share).abs() <= 60.0, "{parts}: {c} vs {share}");
+            }
+            for i in [0, 1, 499, 999] {
+                assert!(r[owner(&r, i)].contains(&i));
+            }
+        }
+    }
+
+    #[test]
+    fn split_of_fewer_items_than_parts_leaves_ranges_empty() {
+        let r = split_by_cost(&[5, 5], 4);
+        assert_eq!(r.iter().map(|r| r.len()).sum::<usize>(), 2);
+        assert_eq!(owner(&r, 1), r.iter().position(|x| x.contains(&1)).unwrap());
+    }
+}

@@ -1,0 +1,104 @@
+//! [`Comm`] on the system's MPI through rsmpi (cargo feature `mpi`).
+
+use mpi::datatype::{Partition, PartitionMut};
+use mpi::topology::SimpleCommunicator;
+use mpi::traits::*;
+use mpi::Count;
+
+use super::Comm;
+
+/// The world communicator of an initialised MPI environment.
+pub struct MpiComm {
+    world: SimpleCommunicator,
+}
+
+// SAFETY: MPI is initialised with the default threading level and every call is made from the
+// main thread: rayon's workers never hold the communicator (the model calls it between its
+// parallel passes). Send + Sync only let the model, which is shared with those workers by
+// reference, carry it.
+unsafe impl Send for MpiComm {}
+unsafe impl Sync for MpiComm {}
+
+impl MpiComm {
+    /// The world communicator.
+    pub fn world(world: SimpleCommunicator) -> MpiComm {
+        MpiComm { world }
+    }
+}
+
+fn displacements(counts: &[Count]) -> Vec<Count> {
+    counts
+        .iter()
+        .scan(0, |at, &c| {
+            let d = *at;
+            *at += c;
+            Some(d)
+        })
+        .collect()
+}
+
+impl Comm for MpiComm {
+    fn rank(&self) -> usize {
+        self.world.rank() as usize
+    }
+
+    fn size(&self) -> usize {
+        self.world.size() as usize
+    }
+
+    fn all_gather(&self, mine: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; mine.len() * self.size()];
+        self.world.all_gather_into(mine, &mut out[..]);
+        out
+    }
+
+    fn all_gather_varcount(&self, mine: &[f64]) -> Vec<Vec<f64>> {
+        let n = self.size();
+        let mut counts = vec![0 as Count; n];
+        self.world
+            .all_gather_into(&(mine.len() as Count), &mut counts[..]);
+        let displs = displacements(&counts);
+        let total = counts.iter().map(|&c| c as usize).sum();
+        let mut flat = vec![0.0; total];
+        {
+            let mut part = PartitionMut::new(&mut flat[..], &counts[..], &displs[..]);
+            self.world.all_gather_varcount_into(mine, &mut part);
+        }
+        split(&flat, &counts)
+    }
+
+    fn exchange(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        let n = self.size();
+        let send_counts: Vec<Count> = send.iter().map(|v| v.len() as Count).collect();
+        let mut recv_counts = vec![0 as Count; n];
+        self.world
+            .all_to_all_into(&send_counts[..], &mut recv_counts[..]);
+        let flat_send: Vec<f64> = send.concat();
+        let send_displs = displacements(&send_counts);
+        let recv_displs = displacements(&recv_counts);
+        let total = recv_counts.iter().map(|&c| c as usize).sum();
+        let mut flat = vec![0.0; total];
+        {
+            let out = Partition::new(&flat_send[..], &send_counts[..], &send_displs[..]);
+            let mut into = PartitionMut::new(&mut flat[..], &recv_counts[..], &recv_displs[..]);
+            self.world.all_to_all_varcount_into(&out, &mut into);
+        }
+        split(&flat, &recv_counts)
+    }
+
+    fn abort(&self, code: i32) -> ! {
+        self.world.abort(code)
+    }
+}
+
+fn split(flat: &[f64], counts: &[Count]) -> Vec<Vec<f64>> {
+    let mut at = 0;
+    counts
+        .iter()
+        .map(|&c| {
+            let v = flat[at..at + c as usize].to_vec();
+            at += c as usize;
+            v
+        })
+        .collect()
+}
