@@ -30,6 +30,17 @@ use crate::parallel::{owner, split_by_cost, Comm};
 /// each) and the contact stiffness.
 const STATE: usize = 13;
 
+/// How a run was decomposed (`summary.json`'s `decomposition`).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Layout {
+    pub ranks: usize,
+    /// Per rank: the particles it owns.
+    pub particles: Vec<usize>,
+    /// Per rank: the ghosts it receives every force evaluation (bond partners one horizon
+    /// deep and the nodes of deformable master surfaces).
+    pub ghosts: Vec<usize>,
+}
+
 /// This rank's part of a decomposed model and the messages that keep it current.
 #[derive(Clone)]
 pub struct Domain {
@@ -148,6 +159,23 @@ impl Domain {
     /// Ghosts this rank receives, over all bodies.
     pub fn ghosts(&self) -> usize {
         self.recv.iter().flatten().map(Vec::len).sum()
+    }
+
+    /// Per rank: the particles it owns and the ghosts it receives each evaluation (over all
+    /// bodies). Collective.
+    pub fn layout(&self) -> Layout {
+        let owned: usize = self
+            .ranges
+            .iter()
+            .filter(|r| !r.is_empty())
+            .map(|r| r[self.comm.rank()].len())
+            .sum();
+        let all = self.comm.all_gather(&[owned as f64, self.ghosts() as f64]);
+        Layout {
+            ranks: self.comm.size(),
+            particles: all.iter().step_by(2).map(|&x| x as usize).collect(),
+            ghosts: all.iter().skip(1).step_by(2).map(|&x| x as usize).collect(),
+        }
     }
 
     /// Gives every ghost its owner's displacement. Collective.

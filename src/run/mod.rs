@@ -15,6 +15,7 @@ use crate::body::Body;
 use crate::contact::estimate::ContactResolution;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
+use crate::model::domain::Layout;
 use crate::model::Model;
 use crate::output::analysis::{contact_patch, fit_elliptic};
 use crate::output::vtk::write_atomically;
@@ -85,6 +86,9 @@ pub struct RunSummary {
     pub solver: RunStats,
     /// The run was stopped by Ctrl-C or SIGTERM before it ended.
     pub interrupted: bool,
+    /// A run over several MPI ranks: what each owned and received.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub decomposition: Option<Layout>,
     /// The error that stopped the run, if any.
     pub error: Option<String>,
 }
@@ -297,6 +301,7 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
             (stats, Some(e))
         }
     };
+    let decomposition = model.domain.as_ref().map(|d| d.layout());
     let (contact, applied, balance) = force_balance(&model);
     let (radius, peak) = patch_figures(&model);
     let summary = RunSummary {
@@ -323,6 +328,7 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
             summary: summary_path.clone(),
         },
         interrupted: stats.interrupted,
+        decomposition,
         solver: stats,
         error: error.as_ref().map(ToString::to_string),
     };
