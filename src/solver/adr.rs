@@ -191,14 +191,9 @@ fn adr_increment(
     let reference = if reference > 0.0 {
         reference
     } else {
-        // A decomposed run: every rank reads every particle's contact force.
+        // Displacement-driven scenes: measure against the contact forces (in a decomposed
+        // run, every particle's, gathered first).
         model.gather();
-        0.0
-    };
-    let reference = if reference > 0.0 {
-        reference
-    } else {
-        // Displacement-driven scenes: measure against the contact forces.
         model
             .bodies
             .iter()
@@ -314,10 +309,7 @@ fn adr_increment(
             }
         }
         local.push(f64::from(u8::from(monitor.interrupted())));
-        let total = match &model.domain {
-            Some(d) => d.comm().sum(&local),
-            None => local,
-        };
+        let total = model.sum_over_ranks(local);
         let interrupted = total[total.len() - 1] > 0.0;
         let mut sum = AdrSums::default();
         let mut at = 0;
