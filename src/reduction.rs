@@ -9,9 +9,10 @@
 
 use rayon::prelude::*;
 
-/// Items per block: large enough to amortise a task, small enough to balance two to a few
-/// dozen threads on the particle counts of a run.
-pub const BLOCK: usize = 1024;
+/// Items per block: small enough that the ranks of a decomposed run, whose ranges start on a
+/// block ([`crate::parallel::split_by_cost`]), stay balanced on a model of a few thousand
+/// particles; several blocks make one task.
+pub const BLOCK: usize = 256;
 
 /// `item(0) ⊕ item(1) ⊕ … ⊕ item(n−1)` with `⊕ = add`, the same bits whatever the thread count
 /// and scheduling.
@@ -21,15 +22,36 @@ where
     I: Fn(usize) -> T + Sync,
     A: Fn(T, T) -> T + Sync,
 {
-    let blocks: Vec<T> = (0..n.div_ceil(BLOCK))
+    block_sums(0..n, &identity, item, &add)
+        .into_iter()
+        .fold(identity(), &add)
+}
+
+/// The sum of each block of [`BLOCK`] items of `range` (which starts on a block), in order:
+/// [`ordered_reduce`] is their sum from `identity()`, so that blocks summed on several ranks
+/// and then added in order give its bits.
+pub fn block_sums<T, I, A>(
+    range: std::ops::Range<usize>,
+    identity: impl Fn() -> T + Sync,
+    item: I,
+    add: A,
+) -> Vec<T>
+where
+    T: Send,
+    I: Fn(usize) -> T + Sync,
+    A: Fn(T, T) -> T + Sync,
+{
+    debug_assert!(range.start.is_multiple_of(BLOCK) || range.is_empty());
+    let (start, end) = (range.start, range.end);
+    (0..range.len().div_ceil(BLOCK))
         .into_par_iter()
+        .with_min_len(4)
         .map(|b| {
-            (b * BLOCK..n.min((b + 1) * BLOCK))
+            (start + b * BLOCK..end.min(start + (b + 1) * BLOCK))
                 .map(&item)
                 .fold(identity(), &add)
         })
-        .collect();
-    blocks.into_iter().fold(identity(), &add)
+        .collect()
 }
 
 /// `Σ item(i)` over `0..n`, in a fixed order.

@@ -377,12 +377,39 @@ impl ContactPass {
                 }
             }
             Body::Rigid(rb) => {
-                for c in &self.contacts {
-                    rb.contact_force -= c.force;
-                    rb.contact_stiffness += tangent * c.projection.normal.dot(&rb.axis).powi(2);
+                for g in self.block_sums(Some(rb.axis)) {
+                    rb.contact_force -= Vec3::new(g[0], g[1], g[2]);
+                    rb.contact_stiffness += g[3];
                 }
             }
         }
+    }
+
+    /// The contacts' forces on the slaves and, against a rigid master of axis `axis`, their
+    /// tangent stiffness along it, summed over each block of
+    /// [`BLOCK`](crate::reduction::BLOCK) slave particles (in order, from zero) that holds a
+    /// contact: `[fx, fy, fz, k]` a block, blocks in order. A sum over the blocks in order is
+    /// then the same whether one process or the ranks of a decomposed run, whose ranges hold
+    /// whole blocks, made them.
+    pub fn block_sums(&self, axis: Option<Vec3>) -> Vec<[f64; 4]> {
+        let tangent = self.weight * self.law.max_tangent();
+        let mut out: Vec<[f64; 4]> = Vec::new();
+        let mut block = usize::MAX;
+        for c in &self.contacts {
+            let b = c.slave as usize / crate::reduction::BLOCK;
+            if b != block {
+                out.push([0.0; 4]);
+                block = b;
+            }
+            let g = out.last_mut().expect("pushed above");
+            for a in 0..3 {
+                g[a] += c.force[a];
+            }
+            if let Some(axis) = axis {
+                g[3] += tangent * c.projection.normal.dot(&axis).powi(2);
+            }
+        }
+        out
     }
 }
 

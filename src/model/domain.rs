@@ -93,7 +93,7 @@ impl Domain {
             let n = pd.len();
             let bonds = &pd.case.bonds;
             let cost: Vec<usize> = (0..n).map(|i| bonds.range(i).len() + 1).collect();
-            let r = split_by_cost(&cost, size);
+            let r = split_by_cost(&cost, size, crate::reduction::BLOCK);
             let mine = r[rank].clone();
             let mut need = vec![false; n];
             for i in mine.clone() {
@@ -241,32 +241,56 @@ impl Domain {
                 }
             }
         }
+        // Per pass: contacts, missed contacts, then the block sums of its slaves' forces
+        // (and of the stiffness on a rigid master), which every rank adds in block order.
         let mut mine = Vec::new();
-        for body in bodies.iter() {
-            if let Body::Rigid(rb) = body {
-                mine.extend(rb.contact_force.iter().copied());
-                mine.push(rb.contact_stiffness);
+        for p in passes.iter() {
+            let axis = match &bodies[p.master] {
+                Body::Rigid(rb) => Some(rb.axis),
+                Body::Deformable(_) => None,
+            };
+            let blocks = p.block_sums(axis);
+            mine.extend([
+                p.contacts.len() as f64,
+                p.missed as f64,
+                blocks.len() as f64,
+            ]);
+            mine.extend(blocks.iter().flatten());
+        }
+        let parts = self.comm.all_gather_varcount(&mine);
+        let mut per_pass: Vec<Vec<&[f64]>> = vec![Vec::new(); passes.len()];
+        let mut counts = vec![[0usize; 2]; passes.len()];
+        for part in &parts {
+            let mut at = 0;
+            for (k, c) in counts.iter_mut().enumerate() {
+                c[0] += part[at] as usize;
+                c[1] += part[at + 1] as usize;
+                let nb = part[at + 2] as usize;
+                at += 3;
+                per_pass[k].extend(part[at..at + 4 * nb].chunks_exact(4));
+                at += 4 * nb;
             }
         }
-        for p in passes.iter() {
-            mine.push(p.contacts.len() as f64);
-            mine.push(p.missed as f64);
-            mine.extend(p.contacts.iter().map(|c| c.force).sum::<Vec3>().iter());
-        }
-        let total = self.comm.sum(&mine);
-        let mut at = 0;
+        // The same additions, in the same order, as one process's passes make.
         for body in bodies.iter_mut() {
             if let Body::Rigid(rb) = body {
-                rb.contact_force = Vec3::new(total[at], total[at + 1], total[at + 2]);
-                rb.contact_stiffness = total[at + 3];
-                at += 4;
+                rb.contact_force = Vec3::zeros();
+                rb.contact_stiffness = 0.0;
             }
         }
         for (k, p) in passes.iter_mut().enumerate() {
-            self.contacts[k] = total[at] as usize;
-            p.missed = total[at + 1] as usize;
-            self.slave_forces[k] = Vec3::new(total[at + 2], total[at + 3], total[at + 4]);
-            at += 5;
+            self.contacts[k] = counts[k][0];
+            p.missed = counts[k][1];
+            let mut slave = Vec3::zeros();
+            for g in &per_pass[k] {
+                let f = Vec3::new(g[0], g[1], g[2]);
+                slave += f;
+                if let Body::Rigid(rb) = &mut bodies[p.master] {
+                    rb.contact_force -= f;
+                    rb.contact_stiffness += g[3];
+                }
+            }
+            self.slave_forces[k] = slave;
         }
     }
 

@@ -208,6 +208,51 @@ impl Model {
         }
     }
 
+    /// Per deformable body, `width` sums over its particles in the fixed order of
+    /// [`block_sums`](crate::reduction::block_sums), then `extra` values summed over the ranks
+    /// (collective in a decomposed run). `mine` holds, body after body, the sums of this
+    /// process's blocks (`width` values a block, over its own particles), then the `extra`
+    /// values. Every rank's blocks are added in order from zero: the ranges of a
+    /// decomposition start on a block, so a decomposed run gets the bits of one process.
+    pub fn sum_blocks(
+        &self,
+        mine: Vec<f64>,
+        width: usize,
+        extra: usize,
+    ) -> (Vec<Vec<f64>>, Vec<f64>) {
+        let parts = match &self.domain {
+            Some(d) => d.comm().all_gather_varcount(&mine),
+            None => vec![mine],
+        };
+        let deformable: Vec<(usize, &PdBody)> = self
+            .bodies
+            .iter()
+            .enumerate()
+            .filter_map(|(k, b)| b.as_pd().map(|pd| (k, pd)))
+            .collect();
+        let mut sums = vec![vec![0.0; width]; deformable.len()];
+        let mut rest = vec![0.0; extra];
+        for (q, part) in parts.iter().enumerate() {
+            let mut at = 0;
+            for (s, &(k, pd)) in sums.iter_mut().zip(&deformable) {
+                let range = match &self.domain {
+                    Some(d) => d.ranges[k][q].clone(),
+                    None => pd.owned.clone(),
+                };
+                for _ in 0..range.len().div_ceil(crate::reduction::BLOCK) {
+                    for (a, v) in s.iter_mut().zip(&part[at..at + width]) {
+                        *a += v;
+                    }
+                    at += width;
+                }
+            }
+            for (a, v) in rest.iter_mut().zip(&part[at..at + extra]) {
+                *a += v;
+            }
+        }
+        (sums, rest)
+    }
+
     /// The largest of every rank's `mine` (collective in a decomposed run).
     pub fn max_over_ranks(&self, mine: f64) -> f64 {
         match &self.domain {
@@ -309,7 +354,10 @@ impl Model {
     pub fn slave_force(&self, k: usize) -> Vec3 {
         match &self.domain {
             Some(d) => d.slave_forces[k],
-            None => self.passes[k].contacts.iter().map(|c| c.force).sum(),
+            None => self.passes[k]
+                .block_sums(None)
+                .iter()
+                .fold(Vec3::zeros(), |a, g| a + Vec3::new(g[0], g[1], g[2])),
         }
     }
 

@@ -62,7 +62,13 @@ impl std::fmt::Debug for dyn Comm {
 /// is item `i`'s, e.g. its bond count): the owned ranges of a decomposition. Items are in
 /// Morton order ([`crate::case::discretize`]), so a range of them is a compact piece of the
 /// body, as a space-filling-curve partitioner makes.
-pub fn split_by_cost(cost: &[usize], parts: usize) -> Vec<Range<usize>> {
+///
+/// Each cut is rounded to a multiple of `align` (the block of
+/// [`ordered_reduce`](crate::reduction::ordered_reduce)), so that no block of a fixed-order
+/// sum straddles two ranks: summed block by block, the ranks' terms give the bits of one
+/// process.
+pub fn split_by_cost(cost: &[usize], parts: usize, align: usize) -> Vec<Range<usize>> {
+    let align = align.max(1);
     let parts = parts.max(1);
     let mut prefix = Vec::with_capacity(cost.len() + 1);
     prefix.push(0usize);
@@ -79,7 +85,8 @@ pub fn split_by_cost(cost: &[usize], parts: usize) -> Vec<Range<usize>> {
         }
         // The first item whose cumulative cost reaches the rank's share.
         let target = (total as u128 * r as u128 / parts as u128) as usize;
-        prefix.partition_point(|&p| p < target).min(cost.len())
+        let at = prefix.partition_point(|&p| p < target).min(cost.len());
+        ((at + align / 2) / align * align).min(cost.len())
     };
     (0..parts).map(|r| cut(r)..cut(r + 1)).collect()
 }
@@ -97,7 +104,7 @@ mod tests {
     fn split_balances_cost_and_covers_every_item_once() {
         let cost: Vec<usize> = (0..1000).map(|i| 10 + (i * 37) % 50).collect();
         for parts in 1..=7 {
-            let r = split_by_cost(&cost, parts);
+            let r = split_by_cost(&cost, parts, 1);
             assert_eq!(r.len(), parts);
             assert_eq!(r[0].start, 0);
             assert_eq!(r[parts - 1].end, cost.len());
@@ -117,8 +124,27 @@ mod tests {
     }
 
     #[test]
+    fn aligned_cuts_fall_on_block_boundaries() {
+        let cost: Vec<usize> = (0..10_000).map(|i| 50 + (i * 31) % 40).collect();
+        for parts in 1..=5 {
+            let r = split_by_cost(&cost, parts, 256);
+            assert_eq!(r[parts - 1].end, cost.len());
+            for w in r.windows(2) {
+                assert_eq!(w[0].end, w[1].start);
+                assert_eq!(w[0].end % 256, 0, "{parts}: {r:?}");
+            }
+            // Within half a block of the balanced cut.
+            let total: usize = cost.iter().sum();
+            for range in &r {
+                let c: usize = cost[range.clone()].iter().sum();
+                assert!((c as f64 - total as f64 / parts as f64).abs() <= 256.0 * 90.0);
+            }
+        }
+    }
+
+    #[test]
     fn split_of_fewer_items_than_parts_leaves_ranges_empty() {
-        let r = split_by_cost(&[5, 5], 4);
+        let r = split_by_cost(&[5, 5], 4, 1);
         assert_eq!(r.iter().map(|r| r.len()).sum::<usize>(), 2);
         assert_eq!(owner(&r, 1), r.iter().position(|x| x.contains(&1)).unwrap());
     }

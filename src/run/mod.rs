@@ -66,6 +66,9 @@ pub struct RunSummary {
     pub converged: bool,
     pub residual: f64,
     pub wall_seconds: f64,
+    /// Of `wall_seconds`, the solver's loop (iterations or steps and the frames written
+    /// during it); the rest is reading the meshes and building the model.
+    pub solve_seconds: f64,
     pub verlet_rebuilds: usize,
     pub contact_pairs: usize,
     pub missed_contacts: usize,
@@ -260,7 +263,9 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
         stop,
     );
     monitor.every = Some(scene.output.every.max(1));
+    let solve_start = Instant::now();
     let result = solve(&mut model, &scene.solver, &mut monitor);
+    let solve_seconds = solve_start.elapsed().as_secs_f64();
     let summary_path = folder.join("summary.json");
     let (stats, error) = match result {
         // A body gone past everything it touches: the scene cannot be solved quasi-statically.
@@ -314,6 +319,7 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
         converged: stats.converged && error.is_none(),
         residual: stats.residual,
         wall_seconds: start.elapsed().as_secs_f64(),
+        solve_seconds,
         verlet_rebuilds: model.verlet_rebuilds(),
         contact_pairs: model.contact_count(),
         missed_contacts: model.missed_contacts(),

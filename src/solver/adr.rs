@@ -11,7 +11,7 @@ use crate::body::Body;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::model::Model;
-use crate::reduction::ordered_reduce;
+use crate::reduction::block_sums;
 use crate::scene::Motion;
 
 /// Gershgorin factor of a penalty contact block `k n⊗n` and its reaction: ½ max_α |n_α| ‖n‖₁.
@@ -266,18 +266,16 @@ fn adr_increment(
         // One pass over each body's particles for the finiteness check, the residual and the
         // damping's Rayleigh quotient (Eqs. 32-33): the bookkeeping of an iteration is then
         // this pass and the update below, next to the force pass.
-        // Per deformable body, over this process's particles; then over the ranks, in rank
-        // order, with the stop flag (every rank stops at the same iteration).
+        // Per deformable body, block by block over this process's particles; then the blocks
+        // of all ranks in order, with the stop flag (every rank stops at the same iteration).
         let mut local = Vec::new();
         for (k, b) in model.bodies.iter().enumerate() {
             if let Body::Deformable(pd) = b {
                 let (dens, prev) = (&density[k], &prev_f[k]);
-                let first = pd.owned.start;
-                let body = ordered_reduce(
-                    pd.owned.len(),
+                let blocks = block_sums(
+                    pd.owned.clone(),
                     AdrSums::default,
                     |i| {
-                        let i = first + i;
                         let ff = free_factor(pd.fixed[i]);
                         let (u, v, f) = (pd.u[i], pd.v[i], pd.force[i]);
                         let mut s = AdrSums {
@@ -300,24 +298,20 @@ fn adr_increment(
                     },
                     AdrSums::add,
                 );
-                local.extend([
-                    f64::from(u8::from(!body.finite)),
-                    body.residual,
-                    body.num,
-                    body.den,
-                ]);
+                for s in blocks {
+                    local.extend([f64::from(u8::from(!s.finite)), s.residual, s.num, s.den]);
+                }
             }
         }
         local.push(f64::from(u8::from(monitor.interrupted())));
-        let total = model.sum_over_ranks(local);
-        let interrupted = total[total.len() - 1] > 0.0;
+        let (bodies, flags) = model.sum_blocks(local, 4, 1);
+        let interrupted = flags[0] > 0.0;
         let mut sum = AdrSums::default();
-        let mut at = 0;
+        let mut totals = bodies.iter();
         for (k, b) in model.bodies.iter().enumerate() {
             match b {
                 Body::Deformable(pd) => {
-                    let t = &total[at..at + 4];
-                    at += 4;
+                    let t = totals.next().expect("one total per deformable body");
                     if t[0] > 0.0 {
                         return Err(Error::numerical(format!(
                             "non-finite displacement or force in body \"{}\" at iteration {n}: ADR diverged (likely cause: a penalty stiffness far above the bond stiffness, or a load that pushes a body through a surface)",
@@ -357,7 +351,6 @@ fn adr_increment(
             break;
         }
         if n.is_multiple_of(EVERY) {
-            model.gather();
             if let Some(u) = past.find(model, n) {
                 stats.unheld = Some(u);
                 break;

@@ -121,8 +121,35 @@ pub(super) struct PastCheck {
 
 impl PastCheck {
     /// The first body that went past everything it is in contact with, after `iteration`.
-    pub(super) fn find(&mut self, model: &Model, iteration: usize) -> Option<Unheld> {
+    pub(super) fn find(&mut self, model: &mut Model, iteration: usize) -> Option<Unheld> {
         self.through.resize(model.bodies.len(), false);
+        if model.domain.is_some() {
+            // Over the ranks, the first two tests (no contact force, moved along d) from each
+            // rank's own particles; only a body that passes them needs the whole state.
+            let mut mine = Vec::with_capacity(2 * model.bodies.len());
+            for (k, body) in model.bodies.iter().enumerate() {
+                let (touched, moved) = match (self.through[k], pushed(body), body) {
+                    (false, Some(d), Body::Deformable(pd)) => {
+                        let own = pd.owned.clone();
+                        let touched = pd.contact_force[own.clone()]
+                            .iter()
+                            .any(|f| *f != Vec3::zeros());
+                        (touched, pd.u[own].iter().map(|u| u.dot(&d)).sum::<f64>())
+                    }
+                    (false, Some(d), Body::Rigid(rb)) => (
+                        rb.contact_force != Vec3::zeros(),
+                        rb.translation.dot(&d).signum(),
+                    ),
+                    _ => (true, 0.0),
+                };
+                mine.extend([f64::from(u8::from(touched)), moved]);
+            }
+            let total = model.sum_over_ranks(mine);
+            if !total.chunks_exact(2).any(|t| t[0] == 0.0 && t[1] > 0.0) {
+                return None;
+            }
+            model.gather();
+        }
         find_unheld(model, iteration, &mut self.through)
     }
 }

@@ -1,45 +1,48 @@
-//! The per-thread force buffers of [`pair_forces`](super::pair_forces), touched only where a
-//! thread writes.
+//! How [`pair_forces`](super::pair_forces) shares a pass among threads so that every particle's
+//! force is summed in the order one thread would sum it.
 //!
-//! A thread that owns the particles `a..b` adds each pair's force to `i` (its own) and to `j`
-//! (`j > i`, often in another thread's range). Each thread needs a buffer indexed like the
-//! particles, but it writes only its own range and the partners of its particles: in Morton
-//! order a compact region and a layer one horizon deep around it. Clearing and summing whole
-//! buffers moves `2 T N × 24` bytes a pass with `T` threads, which grows with `T` until it
-//! outweighs the bonds themselves (`12` bytes a pair) at about 16 threads; here each thread
-//! clears, and the summing pass reads, only the blocks of [`BLOCK`] particles it writes, so a
-//! pass moves `2 N (1 + h) × 24` bytes, `h` the halo's share, whatever `T`.
-//!
-//! The buffers are allocated zeroed (`calloc`, which maps the pages lazily), so a block that a
-//! thread never writes costs no memory either. A block's sum adds the buffers of its writers in
-//! thread order: the same bits as adding every buffer, zeros included, in that order.
+//! A pair `(k, j)`, `k < j`, adds its force to `k` and subtracts it from `j`. One thread going
+//! through the particles in order gives particle `i` the forces of its pairs with each `k < i`,
+//! `k` ascending, and then the sum of its own pairs (those with `j > i`). With `T` threads,
+//! each owning a range `a..b` of particles (about equal pair counts), a thread first evaluates
+//! the pairs that reach into its range from earlier particles (its halo: the pairs `(k, j)`
+//! with `k < a ≤ j < b`, `k` ascending), then its own particles' pairs, keeping only what lands
+//! in its range. So each particle's force is the same sum in the same order whatever the
+//! thread count, and whatever the ranks of a decomposed run (a rank's particles are one such
+//! range): the same bits. The price is the halo's pairs, evaluated twice (by the two threads
+//! they join); in return the forces go into one buffer, each thread writing only its range,
+//! which nothing has to clear or add up beyond the particles themselves.
 
 use std::ops::Range;
 
 use rayon::prelude::*;
 
 use super::PairList;
+use crate::case::neighbours::BondList;
 use crate::math::Vec3;
 
-/// Particles per block: a 4 × 4 × 4 cube of Morton-ordered lattice points, 1.5 kB of forces.
-pub(super) const BLOCK: usize = 64;
+/// The pairs that reach into a thread's range from earlier particles.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Halo {
+    /// The particle of each row, ascending.
+    pub rows: Vec<u32>,
+    /// Per row, its pairs into the range (partner and length), in the list's order.
+    pub bonds: BondList,
+    pub weight: Vec<f32>,
+}
 
-/// Per-thread scratch of [`pair_forces`](super::pair_forces), kept between calls so that the
-/// time loop neither allocates nor recomputes which blocks each thread writes.
+/// The thread layout of [`pair_forces`](super::pair_forces) and its force buffer, kept between
+/// calls so that the time loop neither allocates nor recomputes the halos.
 #[derive(Clone, Debug, Default)]
 pub struct ForceBuffers {
     /// The pair list (its `id`) and thread count the layout was made for.
     key: Option<(u64, usize)>,
-    /// Per thread: its particles (about equal numbers of pairs).
+    /// Per thread: its particles (consecutive, covering the list's rows).
     pub(super) ranges: Vec<Range<usize>>,
-    /// Per thread: forces over all particles; only its blocks are ever written.
-    pub(super) buffers: Vec<Vec<Vec3>>,
-    /// Per thread: the blocks it writes, ascending.
-    pub(super) blocks: Vec<Vec<u32>>,
-    /// Per block `k`: `writers[writer_offsets[k]..writer_offsets[k + 1]]` are the threads that
-    /// write it, ascending.
-    pub(super) writer_offsets: Vec<u32>,
-    pub(super) writers: Vec<u8>,
+    /// Per thread: its halo.
+    pub(super) halos: Vec<Halo>,
+    /// The bond force of each row particle, from `ranges[0].start` on.
+    pub(super) sum: Vec<Vec3>,
 }
 
 impl ForceBuffers {
@@ -48,67 +51,54 @@ impl ForceBuffers {
         if self.key == Some((list.id, parts)) {
             return;
         }
-        let n = list.particles;
-        let nblocks = n.div_ceil(BLOCK);
-        let ranges = list.partition(parts);
-        let pairs = &list.pairs;
-        let blocks: Vec<Vec<u32>> = ranges
-            .par_iter()
-            .map(|range| {
-                let mut mark = vec![false; nblocks];
-                for i in range.clone() {
-                    mark[i / BLOCK] = true;
-                    for &j in &pairs.partner[pairs.range(i)] {
-                        mark[j as usize / BLOCK] = true;
-                    }
-                }
-                (0..nblocks as u32).filter(|&k| mark[k as usize]).collect()
-            })
-            .collect();
-        let mut count = vec![0u32; nblocks + 1];
-        for b in blocks.iter().flatten() {
-            count[*b as usize + 1] += 1;
+        // Cut once, then again with each part's halo counted (twice: its rows are short,
+        // and run one bond at a time), so that the threads finish together.
+        let mut ranges = list.partition(parts, &[]);
+        let mut halos = Self::halos(list, &ranges);
+        if parts > 1 {
+            let extra: Vec<usize> = halos.iter().map(|h| 2 * h.bonds.len()).collect();
+            ranges = list.partition(parts, &extra);
+            halos = Self::halos(list, &ranges);
         }
-        for k in 0..nblocks {
-            count[k + 1] += count[k];
-        }
-        let mut writers = vec![0u8; count[nblocks] as usize];
-        let mut next = count.clone();
-        // Threads in order, so that each block's writers come out ascending.
-        for (t, bs) in blocks.iter().enumerate() {
-            for &b in bs {
-                writers[next[b as usize] as usize] = t as u8;
-                next[b as usize] += 1;
-            }
-        }
-        // Fresh buffers: blocks a previous layout wrote may not be cleared by this one.
-        self.buffers = (0..parts).map(|_| bytemuck::zeroed_vec(n)).collect();
+        self.sum = vec![Vec3::zeros(); list.rows.len()];
         self.ranges = ranges;
-        self.blocks = blocks;
-        self.writer_offsets = count;
-        self.writers = writers;
+        self.halos = halos;
         self.key = Some((list.id, parts));
     }
 
-    /// The threads that write block `k`.
-    #[inline]
-    pub(super) fn writers(&self, k: usize) -> &[u8] {
-        &self.writers[self.writer_offsets[k] as usize..self.writer_offsets[k + 1] as usize]
+    /// Each range's halo.
+    fn halos(list: &PairList, ranges: &[Range<usize>]) -> Vec<Halo> {
+        let pairs = &list.pairs;
+        ranges
+            .par_iter()
+            .map(|range| {
+                let mut halo = Halo::default();
+                halo.bonds.offsets.push(0);
+                // Pairs are stored under their lower particle: every k below the range,
+                // whether a row of the list or a rank's ghost.
+                for k in 0..range.start {
+                    let before = halo.bonds.partner.len();
+                    for b in pairs.range(k) {
+                        if range.contains(&(pairs.partner[b] as usize)) {
+                            halo.bonds.partner.push(pairs.partner[b]);
+                            halo.bonds.length.push(pairs.length[b]);
+                            halo.weight.push(list.pair_weight[b]);
+                        }
+                    }
+                    if halo.bonds.partner.len() > before {
+                        halo.rows.push(k as u32);
+                        halo.bonds.offsets.push(halo.bonds.partner.len());
+                    }
+                }
+                halo
+            })
+            .collect()
     }
 
-    /// Blocks written, summed over the threads, per block of particles: `1 + h`, the number
-    /// the bytes of clearing and summing grow by from one thread to `T`.
-    pub fn written_blocks_per_block(&self) -> f64 {
-        let nblocks = self.writer_offsets.len().saturating_sub(1);
-        self.writers.len() as f64 / nblocks.max(1) as f64
-    }
-}
-
-/// Zeroes the blocks `blocks` of `buf` (over `n` particles).
-pub(super) fn clear_blocks(buf: &mut [Vec3], blocks: &[u32]) {
-    let n = buf.len();
-    for &b in blocks {
-        let start = b as usize * BLOCK;
-        buf[start..(start + BLOCK).min(n)].fill(Vec3::zeros());
+    /// Pairs evaluated twice (the halos') per pair of the list: what `T` threads cost beyond
+    /// one.
+    pub fn halo_pairs_per_pair(&self, list: &PairList) -> f64 {
+        let halo: usize = self.halos.iter().map(|h| h.bonds.len()).sum();
+        halo as f64 / list.pairs.len().max(1) as f64
     }
 }

@@ -4,44 +4,70 @@
 use crate::case::neighbours::BondList;
 use crate::math::Vec3;
 
-/// The force of particle `i`'s bonds in `bonds` (weights `w`) on `i`: with finite kinematics
-/// (`reference` is `None`) `Σ_j w_ij (|y_ij| − L_ij) y_ij/|y_ij|`, `y_ij = pos[j] − pos[i]`
-/// (Eq. 26 times the volumes); linearised, `Σ_j w_ij ((η_ij·ξ_ij)/|ξ_ij|²) ξ_ij` with
-/// `ξ_ij = X_j − X_i` and `η_ij = u_j − u_i` from `reference`. With `SCATTER`, each bond's
-/// force is also subtracted from `buf[j]` (the pairs); without, `buf` is not touched (the
-/// directed bonds to mirror images). AVX2/FMA where the processor has them.
+/// Where a pass subtracts each bond's force from its partner `j`: `buf[j − first]`, for the
+/// partners within `first..first + buf.len()` (a thread's particles); the others are not its
+/// to write.
+pub(super) struct Scatter<'a> {
+    pub buf: &'a mut [Vec3],
+    pub first: usize,
+}
+
+impl Scatter<'_> {
+    /// Nowhere: the bonds to mirror images act on their particle only.
+    pub fn none() -> Scatter<'static> {
+        Scatter {
+            buf: &mut [],
+            first: 0,
+        }
+    }
+
+    #[inline(always)]
+    fn at(&mut self, j: usize) -> Option<&mut Vec3> {
+        self.buf.get_mut(j.wrapping_sub(self.first))
+    }
+}
+
+/// The force of the bonds in row `row` of `bonds` (weights `w`) on their particle `i`: with
+/// finite kinematics (`reference` is `None`) `Σ_j w_ij (|y_ij| − L_ij) y_ij/|y_ij|`,
+/// `y_ij = pos[j] − pos[i]` (Eq. 26 times the volumes); linearised,
+/// `Σ_j w_ij ((η_ij·ξ_ij)/|ξ_ij|²) ξ_ij` with `ξ_ij = X_j − X_i` and `η_ij = u_j − u_i` from
+/// `reference`. With `SCATTER`, each bond's force is also subtracted from its partner's entry
+/// in `out` (the pairs). Each bond's force has the same bits whichever row and group it is
+/// computed in. AVX2/FMA where the processor has them.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub(super) fn bond_sum<const SCATTER: bool>(
     bonds: &BondList,
     w: &[f32],
     pos: &[Vec3],
     reference: Option<&[Vec3]>,
+    row: usize,
     i: usize,
-    buf: &mut [Vec3],
+    out: &mut Scatter,
 ) -> Vec3 {
     #[cfg(target_arch = "x86_64")]
     {
         if has_avx2_fma() {
             // SAFETY: the processor has the features; every access is bounds-checked.
-            return unsafe { bond_sum_avx2::<SCATTER>(bonds, w, pos, reference, i, buf) };
+            return unsafe { bond_sum_avx2::<SCATTER>(bonds, w, pos, reference, row, i, out) };
         }
     }
-    bond_sum_portable::<SCATTER>(bonds, w, pos, reference, i, buf, bonds.range(i))
+    bond_sum_portable::<SCATTER>(bonds, w, pos, reference, row, i, out)
 }
 
-/// [`bond_sum`] over the bonds `range`, one at a time.
+/// [`bond_sum`] one bond at a time.
 #[inline(always)]
 fn bond_sum_portable<const SCATTER: bool>(
     bonds: &BondList,
     w: &[f32],
     pos: &[Vec3],
     reference: Option<&[Vec3]>,
+    row: usize,
     i: usize,
-    buf: &mut [Vec3],
-    range: std::ops::Range<usize>,
+    out: &mut Scatter,
 ) -> Vec3 {
     let mut acc = Vec3::zeros();
-    for b in range {
+    for b in bonds.range(row) {
         let j = bonds.partner[b] as usize;
         let wb = f64::from(w[b]);
         let f = match reference {
@@ -58,7 +84,9 @@ fn bond_sum_portable<const SCATTER: bool>(
         };
         acc += f;
         if SCATTER {
-            buf[j] -= f;
+            if let Some(e) = out.at(j) {
+                *e -= f;
+            }
         }
     }
     acc
@@ -95,11 +123,19 @@ unsafe fn gather4(v: &[Vec3], j: &[u32]) -> [std::arch::x86_64::__m256d; 3] {
     ]
 }
 
-/// Subtracts four forces (x, y, z lanes) from the buffer entries of four distinct partners.
+/// Subtracts the forces of the first `j.len()` (at most four) lanes (x, y, z) from their
+/// partners' entries in `out` (`len` entries for the particles from `first` on), where they
+/// are its to write.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-unsafe fn scatter_sub4(buf: &mut [Vec3], j: &[u32], f: [std::arch::x86_64::__m256d; 3]) {
+unsafe fn scatter_sub4(
+    out: *mut Vec3,
+    len: usize,
+    first: usize,
+    j: &[u32],
+    f: [std::arch::x86_64::__m256d; 3],
+) {
     use std::arch::x86_64::*;
     let [fx, fy, fz] = f;
     // (x, y) pairs of lanes 0 and 2, 1 and 3: the transpose of `gather4`.
@@ -113,10 +149,14 @@ unsafe fn scatter_sub4(buf: &mut [Vec3], j: &[u32], f: [std::arch::x86_64::__m25
     ];
     let mut z = [0.0f64; 4];
     _mm256_storeu_pd(z.as_mut_ptr(), fz);
-    for m in 0..4 {
-        let p = (&mut buf[j[m] as usize] as *mut Vec3).cast::<f64>();
-        _mm_storeu_pd(p, _mm_sub_pd(_mm_loadu_pd(p), xy[m]));
-        *p.add(2) -= z[m];
+    for m in 0..j.len() {
+        let at = (j[m] as usize).wrapping_sub(first);
+        if at < len {
+            // SAFETY: `at` is within the `len` entries behind `out`.
+            let p = out.add(at).cast::<f64>();
+            _mm_storeu_pd(p, _mm_sub_pd(_mm_loadu_pd(p), xy[m]));
+            *p.add(2) -= z[m];
+        }
     }
 }
 
@@ -130,7 +170,7 @@ unsafe fn hsum(v: std::arch::x86_64::__m256d) -> f64 {
     (l[0] + l[1]) + (l[2] + l[3])
 }
 
-/// [`bond_sum`] in AVX2/FMA, four bonds per step, the rest one at a time. Finite kinematics:
+/// [`bond_sum`] in AVX2/FMA, four bonds per step, the last group padded. Finite kinematics:
 /// `1/|y|` from the single-precision estimate refined by two Newton steps (relative error
 /// about 1e-13), which keeps the square root and the division off the divider unit that
 /// bounds the plain loop.
@@ -141,17 +181,15 @@ unsafe fn bond_sum_avx2<const SCATTER: bool>(
     w: &[f32],
     pos: &[Vec3],
     reference: Option<&[Vec3]>,
+    row: usize,
     i: usize,
-    buf: &mut [Vec3],
+    out: &mut Scatter,
 ) -> Vec3 {
     // One loop per kinematics, so that the choice is not made per group of bonds.
-    let acc = match reference {
-        None => bond_group_sum::<SCATTER, false>(bonds, w, pos, &[], i, buf),
-        Some(x) => bond_group_sum::<SCATTER, true>(bonds, w, pos, x, i, buf),
-    };
-    let range = bonds.range(i);
-    let rest = range.start + 4 * (range.len() / 4)..range.end;
-    acc + bond_sum_portable::<SCATTER>(bonds, w, pos, reference, i, buf, rest)
+    match reference {
+        None => bond_group_sum::<SCATTER, false>(bonds, w, pos, &[], row, i, out),
+        Some(x) => bond_group_sum::<SCATTER, true>(bonds, w, pos, x, row, i, out),
+    }
 }
 
 /// The groups of four of [`bond_sum_avx2`]; `SMALL` selects the linearised kinematics (then
@@ -159,16 +197,19 @@ unsafe fn bond_sum_avx2<const SCATTER: bool>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
+#[allow(clippy::too_many_arguments)]
 unsafe fn bond_group_sum<const SCATTER: bool, const SMALL: bool>(
     bonds: &BondList,
     w: &[f32],
     pos: &[Vec3],
     reference: &[Vec3],
+    row: usize,
     i: usize,
-    buf: &mut [Vec3],
+    out: &mut Scatter,
 ) -> Vec3 {
     use std::arch::x86_64::*;
-    let range = bonds.range(i);
+    let range = bonds.range(row);
+    let (base, len_out, first) = (out.buf.as_mut_ptr(), out.buf.len(), out.first);
     let partner = &bonds.partner[range.clone()];
     let length = &bonds.length[range.clone()];
     let w4 = &w[range.clone()];
@@ -193,8 +234,8 @@ unsafe fn bond_group_sum<const SCATTER: bool, const SMALL: bool>(
         _mm256_setzero_pd(),
         _mm256_setzero_pd(),
     );
-    let groups = partner.len() / 4;
-    for g in 0..groups {
+    let len = partner.len();
+    for g in 0..len / 4 {
         let k = 4 * g;
         let j = &partner[k..k + 4];
         let wb = _mm256_cvtps_pd(_mm_loadu_ps(w4[k..k + 4].as_ptr()));
@@ -246,8 +287,43 @@ unsafe fn bond_group_sum<const SCATTER: bool, const SMALL: bool>(
         ay = _mm256_add_pd(ay, f[1]);
         az = _mm256_add_pd(az, f[2]);
         if SCATTER {
-            scatter_sub4(buf, j, f);
+            scatter_sub4(base, len_out, first, j, f);
         }
     }
-    Vec3::new(hsum(ax), hsum(ay), hsum(az))
+    // The last bonds one at a time, with the operations of a lane above, so that a bond's
+    // force has the same bits whether it falls in a group or here: a list cut short (a
+    // thread's halo, a rank's ghost rows) gives its bonds the bits of the whole list.
+    let mut tail = Vec3::zeros();
+    for k in 4 * (len / 4)..len {
+        let jk = partner[k] as usize;
+        let wb = f64::from(w4[k]);
+        let p = pos[jk];
+        let f = if !SMALL {
+            let d = p - pos[i];
+            let r2 = d.z.mul_add(d.z, d.y.mul_add(d.y, d.x * d.x));
+            let mut inv = f64::from(_mm_cvtss_f32(_mm_rsqrt_ps(_mm_set1_ps(r2 as f32))));
+            let h = 0.5 * r2;
+            for _ in 0..2 {
+                let t = inv * inv;
+                inv *= (-h).mul_add(t, 1.5);
+            }
+            d * (wb * (-f64::from(length[k])).mul_add(inv, 1.0))
+        } else {
+            let q = reference[jk];
+            let sx = q - xi0;
+            let e = (p - q) - (pos[i] - xi0);
+            let dot = e.z.mul_add(sx.z, e.y.mul_add(sx.y, e.x * sx.x));
+            let len2 = sx.z.mul_add(sx.z, sx.y.mul_add(sx.y, sx.x * sx.x));
+            sx * ((wb * dot) / len2)
+        };
+        tail += f;
+        if SCATTER {
+            let at = jk.wrapping_sub(first);
+            if at < len_out {
+                // SAFETY: `at` is within the `len_out` entries behind `base`.
+                *base.add(at) -= f;
+            }
+        }
+    }
+    Vec3::new(hsum(ax), hsum(ay), hsum(az)) + tail
 }

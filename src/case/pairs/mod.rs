@@ -10,11 +10,11 @@
 //! share the memory bandwidth.
 //!
 //! Threads: the particles are cut into as many ranges as there are threads, with equal pair
-//! counts; each range adds its forces into a buffer of its own (a pair's `j` may belong to
-//! another range), and the buffers are summed in a fixed order. Each thread clears and the sum
-//! reads only the blocks of particles that thread writes ([`buffers`]), so the bytes a pass
-//! moves do not grow with the thread count. The result depends on the thread count only
-//! through rounding, and is the same from run to run for a given count.
+//! counts; each thread sums its own particles' forces in the order one thread would, first
+//! evaluating the pairs that reach into its range from earlier particles ([`buffers`]). The
+//! result has the same bits whatever the thread count, and whatever the ranks of a decomposed
+//! run ([`PairList::restricted`]); each bond's force has the same bits whichever group of the
+//! vector kernel it falls in ([`kernel`]).
 //!
 //! Symmetry planes: bonds to mirror images (partners at or past the particle count) act on
 //! the real particle only, so they stay directed, in a list of their own. A particle on a
@@ -30,8 +30,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use rayon::prelude::*;
 
 pub use buffers::ForceBuffers;
-use buffers::{clear_blocks, BLOCK};
-use kernel::bond_sum;
+use kernel::{bond_sum, Scatter};
 
 use crate::case::neighbours::BondList;
 use crate::math::Vec3;
@@ -54,6 +53,8 @@ pub struct PairList {
     id: u64,
     /// Real particles.
     particles: usize,
+    /// The particles whose forces a pass computes: all, or a rank's own ([`Self::restricted`]).
+    rows: std::ops::Range<usize>,
     /// Per real particle: the share of its volume the model holds (empty: all 1).
     share: Vec<f64>,
     /// Pairs `(i, j > i)`: partner, reference length and weight, in compressed-row form.
@@ -108,6 +109,7 @@ impl PairList {
         PairList {
             id: next_id(),
             particles,
+            rows: 0..particles,
             share,
             pairs,
             pair_weight,
@@ -138,6 +140,7 @@ impl PairList {
         PairList {
             id: next_id(),
             particles,
+            rows: 0..particles,
             share: Vec::new(),
             images: BondList {
                 offsets: vec![0; particles + 1],
@@ -180,6 +183,7 @@ impl PairList {
         PairList {
             id: next_id(),
             particles: self.particles,
+            rows: owned,
             share: self.share.clone(),
             pairs,
             pair_weight,
@@ -233,17 +237,22 @@ impl PairList {
         })
     }
 
-    /// Ranges of particles with about equal numbers of pairs, one per part.
-    fn partition(&self, parts: usize) -> Vec<std::ops::Range<usize>> {
-        let n = self.particles;
+    /// The rows cut into consecutive ranges with about equal work, one per part: a range's
+    /// pairs, one unit per particle, and `extra[p]` for part `p` (its halo; empty: none).
+    fn partition(&self, parts: usize, extra: &[usize]) -> Vec<std::ops::Range<usize>> {
+        let (first, last) = (self.rows.start, self.rows.end);
         let offsets = &self.pairs.offsets;
-        let total = self.pairs.len() + n;
         // Work up to particle k: its pairs plus one unit per particle.
-        let work = |k: usize| offsets[k] + k;
-        let mut bounds = vec![0];
+        let work = |k: usize| offsets[k] + k - offsets[first] - first;
+        let extra = |p: usize| extra.get(p).copied().unwrap_or(0);
+        let total = work(last) + (0..parts).map(extra).sum::<usize>();
+        let mut bounds = vec![first];
+        let mut before = 0;
         for p in 1..parts {
-            let target = total * p / parts;
-            let (mut lo, mut hi) = (*bounds.last().unwrap_or(&0), n);
+            // Parts 0..p take p shares of the whole, their extra work included.
+            before += extra(p - 1);
+            let target = (total * p / parts).saturating_sub(before);
+            let (mut lo, mut hi) = (*bounds.last().unwrap_or(&first), last);
             while lo < hi {
                 let mid = (lo + hi) / 2;
                 if work(mid) < target {
@@ -254,7 +263,7 @@ impl PairList {
             }
             bounds.push(lo);
         }
-        bounds.push(n);
+        bounds.push(last);
         bounds.windows(2).map(|w| w[0]..w[1]).collect()
     }
 }
@@ -269,8 +278,9 @@ pub enum PairKinematics<'a> {
 }
 
 /// Bond forces at positions `pos` (real particles, then mirror images): for every real
-/// particle `i`, `finish(i, f_i)` receives its total bond force and returns the value stored
-/// in `out[i]` (so that a solver can add loads or kick velocities in the same pass).
+/// particle `i` of the list's rows (all but in a rank's restricted list), `finish(i, f_i)`
+/// receives its total bond force and returns the value stored in `out[i]` (so that a solver
+/// can add loads or kick velocities in the same pass).
 pub fn pair_forces<T: Send>(
     list: &PairList,
     pos: &[Vec3],
@@ -289,48 +299,86 @@ pub fn pair_forces<T: Send>(
             Some(x)
         }
     };
-    let parts = rayon::current_num_threads().clamp(1, 64).min(n.max(1));
+    let rows = list.rows.clone();
+    let parts = rayon::current_num_threads()
+        .clamp(1, 64)
+        .min(rows.len().max(1));
     buffers.prepare(list, parts);
     let ForceBuffers {
-        ranges,
-        buffers: bufs,
-        blocks,
-        ..
+        ranges, halos, sum, ..
     } = buffers;
-    bufs.par_iter_mut()
+    // Each thread's part of the one buffer.
+    let mut parts_of_sum = Vec::with_capacity(ranges.len());
+    let mut rest = &mut sum[..];
+    for r in ranges.iter() {
+        let (head, tail) = std::mem::take(&mut rest).split_at_mut(r.len());
+        parts_of_sum.push(head);
+        rest = tail;
+    }
+    parts_of_sum
+        .into_par_iter()
         .zip(ranges.par_iter())
-        .zip(blocks.par_iter())
-        .for_each(|((buf, range), blocks)| {
-            clear_blocks(buf, blocks);
+        .zip(halos.par_iter())
+        .for_each(|((buf, range), halo)| {
+            buf.fill(Vec3::zeros());
+            let mut out = Scatter {
+                buf,
+                first: range.start,
+            };
+            // The pairs from earlier particles first, in their order, as one thread adds them.
+            for (h, &k) in halo.rows.iter().enumerate() {
+                bond_sum::<true>(
+                    &halo.bonds,
+                    &halo.weight,
+                    pos,
+                    reference,
+                    h,
+                    k as usize,
+                    &mut out,
+                );
+            }
             for i in range.clone() {
-                let f = bond_sum::<true>(&list.pairs, &list.pair_weight, pos, reference, i, buf);
-                buf[i] += f;
+                if list.pairs.range(i).is_empty() {
+                    continue;
+                }
+                let f = bond_sum::<true>(
+                    &list.pairs,
+                    &list.pair_weight,
+                    pos,
+                    reference,
+                    i,
+                    i,
+                    &mut out,
+                );
+                out.buf[i - range.start] += f;
             }
         });
-    let buffers = &*buffers;
-    out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
-        for (k, o) in out.iter_mut().enumerate() {
-            let i = c * CHUNK + k;
-            // The writers of `i`'s block, in thread order; every block has one (its owner).
-            let (first, rest) = buffers
-                .writers(i / BLOCK)
-                .split_first()
-                .expect("every block has its owner among its writers");
-            let mut f = buffers.buffers[*first as usize][i];
-            for &t in rest {
-                f += buffers.buffers[t as usize][i];
+    let sum = &buffers.sum;
+    out[rows.clone()]
+        .par_chunks_mut(CHUNK)
+        .enumerate()
+        .for_each(|(c, out)| {
+            for (k, o) in out.iter_mut().enumerate() {
+                let i = rows.start + c * CHUNK + k;
+                let mut f = sum[i - rows.start];
+                if let Some(&s) = list.share.get(i) {
+                    f *= s;
+                }
+                // Bonds to mirror images act on `i` alone.
+                if !list.images.range(i).is_empty() {
+                    f += bond_sum::<false>(
+                        &list.images,
+                        &list.image_weight,
+                        pos,
+                        reference,
+                        i,
+                        i,
+                        &mut Scatter::none(),
+                    );
+                }
+                finish(i, f, o);
             }
-            if let Some(&s) = list.share.get(i) {
-                f *= s;
-            }
-            // Bonds to mirror images act on `i` alone.
-            if !list.images.range(i).is_empty() {
-                f +=
-                    bond_sum::<false>(&list.images, &list.image_weight, pos, reference, i, &mut []);
-            }
-            finish(i, f, o);
-        }
-    });
+        });
 }
 
 #[cfg(test)]
@@ -437,7 +485,7 @@ mod tests {
         let bonds = build_bonds(&x, 2.1);
         let list = PairList::from_bonds(&bonds, &vec![1.0; bonds.len()], &[], x.len());
         for parts in 1..8 {
-            let r = list.partition(parts);
+            let r = list.partition(parts, &[]);
             assert_eq!(r.len(), parts);
             assert_eq!(r[0].start, 0);
             assert_eq!(r[parts - 1].end, x.len());
@@ -488,10 +536,10 @@ mod tests {
         out
     }
 
-    /// The clearing and summing of the force buffers do not grow with the thread count: each
-    /// thread touches its own particles and a halo around them, not the whole body.
+    /// Every thread count gives the one-thread forces, bit for bit, and the pairs evaluated
+    /// twice (the halos) stay a small share of the pairs.
     #[test]
-    fn buffers_touch_a_halo_not_the_body() {
+    fn any_thread_count_gives_the_one_thread_bits() {
         let (x, list) = morton_lattice(32);
         let y: Vec<Vec3> = x
             .iter()
@@ -499,22 +547,37 @@ mod tests {
             .collect();
         let mut reference = ForceBuffers::default();
         let one = forces(&list, &y, 1, &mut reference);
-        assert_eq!(reference.written_blocks_per_block(), 1.0);
-        for threads in [2, 4, 8, 16] {
+        assert_eq!(reference.halo_pairs_per_pair(&list), 0.0);
+        for threads in [2, 3, 4, 8, 16] {
             let mut buffers = ForceBuffers::default();
             let f = forces(&list, &y, threads, &mut buffers);
-            let touched = buffers.written_blocks_per_block();
-            // Whole buffers would be `threads` entries per particle.
-            assert!(
-                touched < 1.0 + 0.15 * threads as f64,
-                "{threads} threads: {touched}"
-            );
-            // Same bits from call to call on the same buffers, and on fresh ones.
+            assert_eq!(f, one, "{threads} threads");
+            let halo = buffers.halo_pairs_per_pair(&list);
+            assert!(halo < 0.05 * threads as f64, "{threads} threads: {halo}");
+            // Same bits from call to call on the same buffers.
             assert_eq!(f, forces(&list, &y, threads, &mut buffers));
-            assert_eq!(f, forces(&list, &y, threads, &mut ForceBuffers::default()));
-            // Other thread counts: the same forces up to rounding.
-            for (a, b) in f.iter().zip(&one) {
-                assert!((a - b).norm() <= 1e-12 * b.norm().max(1e-3), "{a} vs {b}");
+        }
+    }
+
+    /// A rank's restricted list gives its particles the bits of the whole list.
+    #[test]
+    fn a_restricted_list_gives_its_rows_the_whole_lists_bits() {
+        let (x, list) = morton_lattice(16);
+        let y: Vec<Vec3> = x
+            .iter()
+            .map(|p| p * 1.002 + Vec3::new(1e-3 * p.y * p.z, 0.0, 0.0))
+            .collect();
+        let whole = forces(&list, &y, 1, &mut ForceBuffers::default());
+        let n = x.len();
+        for owned in [0..n / 3, n / 3..2 * n / 3 + 5, 2 * n / 3 + 5..n] {
+            let part = list.restricted(owned.clone());
+            for threads in [1, 2] {
+                let f = forces(&part, &y, threads, &mut ForceBuffers::default());
+                assert_eq!(
+                    f[owned.clone()],
+                    whole[owned.clone()],
+                    "{owned:?}, {threads}"
+                );
             }
         }
     }
