@@ -3,6 +3,7 @@
 
     python3 tools/check_vtk.py case DIR            # a `pdcontact convert` folder
     python3 tools/check_vtk.py run DIR [--plane-normal 0,0,1] [--plane-point 0,0,-1]
+    python3 tools/check_vtk.py same DIR_A DIR_B    # two runs of a scene, e.g. 1 process and N ranks
 
 `case`: particles.vtu and segments.vtu load with vtkXMLUnstructuredGridReader and hold the
 fields `convert` documents.
@@ -15,7 +16,12 @@ data `load_factor` (ADR; timesteps in (0, 1]) or `time` (explicit; equal to the 
 particles hold every documented field, each surface block holds only the nodes its cells use,
 each a particle with the particle's values, and `contact_pressure` is positive only on
 particles that face the rigid plane (outward normal against the plane normal) and whose
-deformed positions (points + displacement) lie on it.
+deformed positions (points + displacement) lie on it. A decomposed run's particles (one piece
+per rank, a multi-piece block) are taken in piece order, and its `.pvtu` files must load with
+vtkXMLPUnstructuredGridReader and hold the same points and values.
+
+`same`: the two runs list the same timesteps, and every frame's blocks hold the same points and
+point arrays, bit for bit (pieces put together in order): every particle once.
 
 Prints a JSON report; exits 1 when a check fails, 2 when VTK is missing.
 """
@@ -120,13 +126,87 @@ def read_vtm(path):
                 raise RuntimeError(f"{path}: block {prefix}{name} did not load")
             if b.IsA("vtkMultiBlockDataSet"):
                 walk(b, prefix + name + "/")
-            else:
-                if b.GetNumberOfPoints() == 0:
-                    raise RuntimeError(f"{path}: block {prefix}{name} has no points")
-                out[prefix + name] = b
+                continue
+            if b.IsA("vtkMultiPieceDataSet"):
+                b = merge_pieces(b, f"{path}: {prefix}{name}")
+            if b.GetNumberOfPoints() == 0:
+                raise RuntimeError(f"{path}: block {prefix}{name} has no points")
+            out[prefix + name] = b
 
     walk(r.GetOutput(), "")
     return out
+
+
+def merge_pieces(mp, where):
+    """The pieces of a multi-piece block, one grid, in piece order (no points merged)."""
+    app = vtk.vtkAppendFilter()
+    for q in range(mp.GetNumberOfPieces()):
+        g = mp.GetPiece(q)
+        if g is None:
+            raise RuntimeError(f"{where}: piece {q} did not load")
+        app.AddInputData(g)
+    app.Update()
+    out = vtk.vtkUnstructuredGrid()
+    out.ShallowCopy(app.GetOutput())
+    # vtkAppendFilter drops field data: keep the first piece's (load_factor, time, ...).
+    out.SetFieldData(mp.GetPiece(0).GetFieldData())
+    return out
+
+
+def check_pvtu(folder, frames):
+    """Every .pvtu of the frames loads and equals its frame's pieces; returns how many."""
+    n = 0
+    for vtm, blocks in frames:
+        stem = vtm[: -len(".vtm")]
+        d = os.path.join(folder, stem)
+        for f in sorted(os.listdir(d)) if os.path.isdir(d) else []:
+            if not f.endswith("_particles.pvtu"):
+                continue
+            r = vtk.vtkXMLPUnstructuredGridReader()
+            r.SetFileName(os.path.join(d, f))
+            r.Update()
+            if r.GetErrorCode() != 0:
+                raise RuntimeError(f"{stem}/{f}: VTK reader error code {r.GetErrorCode()}")
+            body = f[: -len("_particles.pvtu")]
+            g = blocks.get(f"{body}/particles")
+            if g is None:
+                raise RuntimeError(f"{stem}/{f}: no block {body}/particles in {vtm}")
+            same_grid(r.GetOutput(), g, f"{stem}/{f}")
+            n += 1
+    return n
+
+
+def same_grid(a, b, where):
+    """Same points and point arrays, bit for bit."""
+    if a.GetNumberOfPoints() != b.GetNumberOfPoints():
+        raise RuntimeError(f"{where}: {a.GetNumberOfPoints()} points against {b.GetNumberOfPoints()}")
+    pa, pb = (vtk_to_numpy(g.GetPoints().GetData()) for g in (a, b))
+    if not np.array_equal(pa, pb):
+        raise RuntimeError(f"{where}: points differ")
+    fa, fb = fields(a.GetPointData()), fields(b.GetPointData())
+    if fa != fb:
+        raise RuntimeError(f"{where}: point arrays {sorted(fa)} against {sorted(fb)}")
+    for n in fa:
+        x = vtk_to_numpy(a.GetPointData().GetArray(n))
+        y = vtk_to_numpy(b.GetPointData().GetArray(n))
+        if not np.array_equal(x, y):
+            raise RuntimeError(f"{where}: `{n}` differs by up to {float(np.abs(x - y).max()):.3e}")
+
+
+def check_same(a, b):
+    ea, eb = pvd_entries(os.path.join(a, "run.pvd")), pvd_entries(os.path.join(b, "run.pvd"))
+    ta, tb = [t for t, _, _ in ea], [t for t, _, _ in eb]
+    if ta != tb:
+        raise RuntimeError(f"timesteps differ: {ta} against {tb}")
+    points = 0
+    for (_, _, fa), (_, _, fb) in zip(ea, eb):
+        ba, bb = read_vtm(os.path.join(a, fa)), read_vtm(os.path.join(b, fb))
+        if sorted(ba) != sorted(bb):
+            raise RuntimeError(f"{fa}: blocks {sorted(ba)} against {sorted(bb)}")
+        for k in ba:
+            same_grid(ba[k], bb[k], f"{fa} {k}")
+            points += ba[k].GetNumberOfPoints()
+    return {"frames": len(ea), "points_compared": points}
 
 
 def field_value(g, name):
@@ -178,13 +258,15 @@ def check_run(folder, normal, point):
     if any(b <= a for a, b in zip(times, times[1:])):
         raise RuntimeError(f"{pvd}: timesteps not increasing: {times}")
     frames = [read_vtm(os.path.join(folder, f)) for _, _, f in entries]
+    pvtu = check_pvtu(folder, [(f, b) for (_, _, f), b in zip(entries, frames)])
     last = entries[-1][2]
     blocks = frames[-1]
     bodies = sorted({k.split("/")[0] for k in blocks if k.endswith("/particles")})
     if not bodies:
         raise RuntimeError(f"{last}: no `<body>/particles` block (blocks {sorted(blocks)})")
     report = {"pvd_entries": len(entries), "frames": len(frames), "last": last,
-              "blocks": sorted(blocks), "first_timestep": times[0], "last_timestep": times[-1]}
+              "blocks": sorted(blocks), "first_timestep": times[0], "last_timestep": times[-1],
+              "pvtu": pvtu}
     g0 = next(iter(blocks.values()))
     lf, t = field_value(g0, "load_factor"), field_value(g0, "time")
     if lf is None and t is None:
@@ -244,12 +326,14 @@ def parse_vec(s):
 
 
 def main(argv):
-    if len(argv) < 3 or argv[1] not in ("case", "run"):
+    if len(argv) < 3 or argv[1] not in ("case", "run", "same") or (argv[1] == "same" and len(argv) < 4):
         print(__doc__)
         return 2
     try:
         if argv[1] == "case":
             report = check_case(argv[2])
+        elif argv[1] == "same":
+            report = check_same(argv[2], argv[3])
         else:
             normal = point = None
             if "--plane-normal" in argv:

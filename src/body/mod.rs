@@ -187,42 +187,32 @@ impl PdBody {
         self.case.ghosts.extend_positions(&real, out);
     }
 
-    /// Strain energy `¼ Σ_directed w (|y| − L)²` (each pair counted twice; a bond to a mirror
-    /// image carries the half of its mirrored pair that belongs to this model), over the
-    /// bonds of the particles this process owns (all of them in one process).
-    pub fn strain_energy(&self) -> f64 {
+    /// Strain energy of particle `i`'s bonds, `¼ Σ_j w (|y| − L)²` over its directed bonds
+    /// (each pair is counted from both ends; a bond to a mirror image carries the half of its
+    /// mirrored pair that belongs to this model), at the positions `pos`
+    /// ([`extended_positions`](Self::extended_positions)).
+    pub fn strain_energy_of(&self, i: usize, pos: &[Vec3]) -> f64 {
         let bonds = &self.case.bonds;
-        let mut pos = Vec::new();
-        self.extended_positions(&mut pos);
-        self.owned
-            .clone()
-            .map(|i| {
-                let yi = pos[i];
-                bonds
-                    .range(i)
-                    .map(|b| {
-                        let j = bonds.partner[b] as usize;
-                        let stretch = match self.kinematics {
-                            Kinematics::Finite => (pos[j] - yi).norm() - bonds.length(b),
-                            Kinematics::Small => {
-                                let xi = self.reference[j] - self.reference[i];
-                                (pos[j] - yi - xi).dot(&xi) / bonds.length(b)
-                            }
-                        };
-                        0.25 * f64::from(self.bond_weight[b]) * stretch * stretch
-                    })
-                    .sum::<f64>()
+        let yi = pos[i];
+        bonds
+            .range(i)
+            .map(|b| {
+                let j = bonds.partner[b] as usize;
+                let stretch = match self.kinematics {
+                    Kinematics::Finite => (pos[j] - yi).norm() - bonds.length(b),
+                    Kinematics::Small => {
+                        let xi = self.reference[j] - self.reference[i];
+                        (pos[j] - yi - xi).dot(&xi) / bonds.length(b)
+                    }
+                };
+                0.25 * f64::from(self.bond_weight[b]) * stretch * stretch
             })
-            .sum()
+            .sum::<f64>()
     }
 
-    /// Kinetic energy of the particles this process owns (all of them in one process).
-    pub fn kinetic_energy(&self) -> f64 {
-        self.v[self.owned.clone()]
-            .iter()
-            .zip(&self.mass[self.owned.clone()])
-            .map(|(v, m)| 0.5 * m * v.norm_squared())
-            .sum()
+    /// Kinetic energy `½ m v²` of particle `i`.
+    pub fn kinetic_energy_of(&self, i: usize) -> f64 {
+        0.5 * self.mass[i] * self.v[i].norm_squared()
     }
 }
 

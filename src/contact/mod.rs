@@ -347,33 +347,14 @@ impl ContactPass {
 
     /// Adds this pass's forces and contact stiffness to the bodies.
     pub fn apply(&self, bodies: &mut [Body]) {
-        let tangent = self.weight * self.law.max_tangent();
-        {
-            let sb = bodies[self.slave].as_pd_mut().expect("slave is deformable");
-            // Every slave with a candidate segment may touch within a step: give it the
-            // contact's largest tangent stiffness (ADR density, explicit step).
-            for (k, &s) in self.slaves.iter().enumerate() {
-                if self.verlet.offsets[k + 1] > self.verlet.offsets[k] {
-                    sb.contact_stiffness[s as usize] += tangent;
-                }
-            }
-            for c in &self.contacts {
-                sb.force[c.slave as usize] += c.force;
-                sb.contact_force[c.slave as usize] += c.force;
-            }
-        }
+        self.apply_to_slaves(bodies);
         match &mut bodies[self.master] {
             Body::Deformable(mb) => {
-                for c in &self.contacts {
-                    let nodes = mb.case.segments.segments[c.segment as usize].nodes;
-                    for (k, &n) in nodes.iter().enumerate() {
-                        let w = c.projection.weights[k];
-                        if w != 0.0 {
-                            mb.force[n as usize] -= c.force * w;
-                            mb.contact_force[n as usize] -= c.force * w;
-                            mb.contact_stiffness[n as usize] += tangent * w.abs();
-                        }
-                    }
+                for (n, f, k) in self.reactions(&mb.case.segments.segments) {
+                    let n = n as usize;
+                    mb.force[n] += f;
+                    mb.contact_force[n] += f;
+                    mb.contact_stiffness[n] += k;
                 }
             }
             Body::Rigid(rb) => {
@@ -382,6 +363,53 @@ impl ContactPass {
                     rb.contact_stiffness += g[3];
                 }
             }
+        }
+    }
+
+    /// The slave side of [`apply`](Self::apply): the contacts' forces on the slaves and the
+    /// contact stiffness of every slave that may touch.
+    pub fn apply_to_slaves(&self, bodies: &mut [Body]) {
+        let tangent = self.weight * self.law.max_tangent();
+        let sb = bodies[self.slave].as_pd_mut().expect("slave is deformable");
+        // Every slave with a candidate segment may touch within a step: give it the
+        // contact's largest tangent stiffness (ADR density, explicit step).
+        for (k, &s) in self.slaves.iter().enumerate() {
+            if self.verlet.offsets[k + 1] > self.verlet.offsets[k] {
+                sb.contact_stiffness[s as usize] += tangent;
+            }
+        }
+        for c in &self.contacts {
+            sb.force[c.slave as usize] += c.force;
+            sb.contact_force[c.slave as usize] += c.force;
+        }
+    }
+
+    /// The reactions on a deformable master of segments `segments`, in the order [`apply`](Self::apply) adds
+    /// them (contact by contact, corner by corner): `(node, force, stiffness)`, the force
+    /// `−F N_i(r, t)` of Eq. 20's weights. A decomposed run sends each to the node's owner,
+    /// who adds them in this order, rank after rank ([`crate::model::domain`]).
+    pub fn reactions<'a>(
+        &'a self,
+        segments: &'a [MasterSegment],
+    ) -> impl Iterator<Item = (u32, Vec3, f64)> + 'a {
+        let tangent = self.weight * self.law.max_tangent();
+        self.contacts.iter().flat_map(move |c| {
+            let nodes = segments[c.segment as usize].nodes;
+            (0..4).filter_map(move |k| {
+                let w = c.projection.weights[k];
+                (w != 0.0).then(|| (nodes[k], -(c.force * w), tangent * w.abs()))
+            })
+        })
+    }
+
+    /// Energy stored by contact `c`: `∫ F dδ` for `F = K δ^{3/2}`, `F δ (2/5)` (Hertz), or
+    /// `F δ / 2` (linear). The force applied, so that a slave on a symmetry plane counts only
+    /// its share, as its force does.
+    pub fn energy(&self, c: &ContactPoint) -> f64 {
+        let f = c.force.norm();
+        match self.law.law {
+            crate::scene::PenaltyLaw::Hertz => 0.4 * f * c.penetration,
+            crate::scene::PenaltyLaw::Linear => 0.5 * f * c.penetration,
         }
     }
 

@@ -8,9 +8,10 @@
 //! evaluation it first receives the displacements of its ghosts from their owners: the bond
 //! partners of its particles (one horizon deep, mirror images through their sources) and, on
 //! a deformable master, every node of a master segment, so that any slave it owns can touch
-//! any segment. After the contact pass the reactions it put on other ranks' master nodes go to
-//! their owners, and the forces on rigid bodies, the contact counts and the missed contacts
-//! are summed over the ranks in rank order. The Verlet lists are rebuilt when the two largest
+//! any segment. After the contact pass the reactions of its contacts on master nodes go to the
+//! nodes' owners, who add them in one process's order (contact by contact, rank after rank),
+//! and the forces on rigid bodies are summed block by block of slave particles, so that the
+//! forces have the same bits on any number of ranks. The Verlet lists are rebuilt when the two largest
 //! moves over all ranks pass the skin, as in one process.
 //!
 //! Rigid bodies are replicated: every rank moves them alike from the summed forces. What needs
@@ -24,7 +25,7 @@ use std::sync::Arc;
 use crate::body::Body;
 use crate::contact::ContactPass;
 use crate::math::Vec3;
-use crate::parallel::{owner, split_by_cost, Comm};
+use crate::parallel::{owner, split_by_cost, Comm, Ghosts};
 
 /// Values per particle that [`Domain::gather`] moves: `u`, `v`, force, contact force (3
 /// each) and the contact stiffness.
@@ -47,13 +48,8 @@ pub struct Domain {
     comm: Arc<dyn Comm>,
     /// Per body: every rank's owned range (empty for a rigid body).
     pub ranges: Vec<Vec<Range<usize>>>,
-    /// Per body and rank: the particles this rank sends to it every evaluation.
-    send: Vec<Vec<Vec<u32>>>,
-    /// Per body and rank: the ghosts this rank receives from it, in the order they are sent.
-    recv: Vec<Vec<Vec<u32>>>,
-    /// Per body: a deformable master of some pass (its nodes take reactions from other ranks'
-    /// slaves).
-    master: Vec<bool>,
+    /// Per body: this rank's ghosts (none for a rigid body).
+    ghosts: Vec<Ghosts>,
     /// Per pass: contacts over all ranks in the last evaluation.
     pub contacts: Vec<usize>,
     /// Per pass: the force on its slaves over all ranks in the last evaluation.
@@ -81,22 +77,19 @@ impl Domain {
             })
             .collect();
         let mut ranges = Vec::new();
-        let mut send = Vec::new();
-        let mut recv = Vec::new();
+        let mut ghosts = Vec::new();
         for (k, body) in bodies.iter().enumerate() {
             let Some(pd) = body.as_pd() else {
                 ranges.push(Vec::new());
-                send.push(vec![Vec::new(); size]);
-                recv.push(vec![Vec::new(); size]);
+                ghosts.push(Ghosts::default());
                 continue;
             };
             let n = pd.len();
             let bonds = &pd.case.bonds;
             let cost: Vec<usize> = (0..n).map(|i| bonds.range(i).len() + 1).collect();
             let r = split_by_cost(&cost, size, crate::reduction::BLOCK);
-            let mine = r[rank].clone();
             let mut need = vec![false; n];
-            for i in mine.clone() {
+            for i in r[rank].clone() {
                 for b in bonds.range(i) {
                     let j = bonds.partner[b] as usize;
                     let real = if j < n {
@@ -114,33 +107,13 @@ impl Domain {
                     }
                 }
             }
-            let mut asks: Vec<Vec<f64>> = vec![Vec::new(); size];
-            let mut mine_recv: Vec<Vec<u32>> = vec![Vec::new(); size];
-            for (j, _) in need
-                .iter()
-                .enumerate()
-                .filter(|(j, &x)| x && !mine.contains(j))
-            {
-                let q = owner(&r, j);
-                asks[q].push(j as f64);
-                mine_recv[q].push(j as u32);
-            }
-            let asked = comm.exchange(&asks);
-            send.push(
-                asked
-                    .into_iter()
-                    .map(|v| v.into_iter().map(|j| j as u32).collect())
-                    .collect(),
-            );
-            recv.push(mine_recv);
+            ghosts.push(Ghosts::new(&*comm, &r, &need));
             ranges.push(r);
         }
         Domain {
             comm,
             ranges,
-            send,
-            recv,
-            master,
+            ghosts,
             contacts: vec![0; passes.len()],
             slave_forces: vec![Vec3::zeros(); passes.len()],
         }
@@ -158,7 +131,7 @@ impl Domain {
 
     /// Ghosts this rank receives, over all bodies.
     pub fn ghosts(&self) -> usize {
-        self.recv.iter().flatten().map(Vec::len).sum()
+        self.ghosts.iter().map(Ghosts::count).sum()
     }
 
     /// Per rank: the particles it owns and the ghosts it receives each evaluation (over all
@@ -180,65 +153,75 @@ impl Domain {
 
     /// Gives every ghost its owner's displacement. Collective.
     pub fn share_displacements(&self, bodies: &mut [Body]) {
-        let size = self.comm.size();
-        let mut out: Vec<Vec<f64>> = vec![Vec::new(); size];
-        for (k, body) in bodies.iter().enumerate() {
-            let Some(pd) = body.as_pd() else { continue };
-            for (q, list) in self.send[k].iter().enumerate() {
-                out[q].extend(list.iter().flat_map(|&i| pd.u[i as usize].iter().copied()));
+        let mut out: Vec<Vec<f64>> = vec![Vec::new(); self.comm.size()];
+        for (body, g) in bodies.iter().zip(&self.ghosts) {
+            if let Some(pd) = body.as_pd() {
+                g.pack(&pd.u, &mut out);
             }
         }
         let got = self.comm.exchange(&out);
-        let mut at = vec![0usize; size];
-        for (k, body) in bodies.iter_mut().enumerate() {
-            let Some(pd) = body.as_pd_mut() else { continue };
-            for (q, list) in self.recv[k].iter().enumerate() {
-                for &i in list {
-                    let v = &got[q][at[q]..at[q] + 3];
-                    pd.u[i as usize] = Vec3::new(v[0], v[1], v[2]);
-                    at[q] += 3;
-                }
+        let mut at = vec![0usize; got.len()];
+        for (body, g) in bodies.iter_mut().zip(&self.ghosts) {
+            if let Some(pd) = body.as_pd_mut() {
+                g.unpack(&got, &mut at, &mut pd.u);
             }
         }
     }
 
-    /// Sends the contact reactions this rank's slaves put on other ranks' master nodes to
-    /// their owners, who add them; then sums the forces on rigid bodies, the contacts and the
-    /// missed contacts of every pass over the ranks. Collective.
-    pub fn finish_contact(&mut self, bodies: &mut [Body], passes: &mut [ContactPass]) {
+    /// Applies the contact forces of every pass found on this rank (its own slaves): the
+    /// reactions on a deformable master go to the nodes' owners, who add them contact by
+    /// contact, rank after rank, pass after pass, as one process's [`ContactPass::apply`]
+    /// does, so that a node's force has the same bits on any number of ranks. Then the forces
+    /// on rigid bodies, the contacts and the missed contacts of every pass are summed over
+    /// the ranks. Collective.
+    pub fn apply_contact(&mut self, bodies: &mut [Body], passes: &mut [ContactPass]) {
         let size = self.comm.size();
-        if self.master.iter().any(|&m| m) {
+        // Per pass with a deformable master, what each rank sends: per destination rank,
+        // `[count, (node, fx, fy, fz, k) × count]`, pass after pass.
+        let deformable: Vec<bool> = passes
+            .iter()
+            .map(|p| matches!(bodies[p.master], Body::Deformable(_)))
+            .collect();
+        let got = if deformable.iter().any(|&d| d) {
             let mut out: Vec<Vec<f64>> = vec![Vec::new(); size];
-            for (k, body) in bodies.iter_mut().enumerate() {
-                if !self.master[k] {
-                    continue;
+            for (p, _) in passes.iter().zip(&deformable).filter(|(_, &d)| d) {
+                let mb = bodies[p.master]
+                    .as_pd()
+                    .expect("a deformable master has particles");
+                let ranges = &self.ranges[p.master];
+                let heads: Vec<usize> = out.iter().map(Vec::len).collect();
+                for o in &mut out {
+                    o.push(0.0);
                 }
-                let pd = body
-                    .as_pd_mut()
-                    .expect("a master in the list is deformable");
-                for (q, list) in self.recv[k].iter().enumerate() {
-                    for &i in list {
-                        let i = i as usize;
-                        let (f, kc) = (pd.contact_force[i], pd.contact_stiffness[i]);
-                        if f != Vec3::zeros() || kc != 0.0 {
-                            out[q].extend([k as f64, i as f64, f.x, f.y, f.z, kc]);
-                            pd.contact_force[i] = Vec3::zeros();
-                            pd.contact_stiffness[i] = 0.0;
-                        }
-                    }
+                for (n, f, k) in p.reactions(&mb.case.segments.segments) {
+                    let q = owner(ranges, n as usize);
+                    out[q].extend([f64::from(n), f.x, f.y, f.z, k]);
+                    out[q][heads[q]] += 1.0;
                 }
             }
-            for part in self.comm.exchange(&out) {
-                for r in part.chunks_exact(6) {
-                    let pd = bodies[r[0] as usize]
-                        .as_pd_mut()
-                        .expect("reactions go to deformable bodies");
-                    let i = r[1] as usize;
-                    let f = Vec3::new(r[2], r[3], r[4]);
-                    pd.force[i] += f;
-                    pd.contact_force[i] += f;
-                    pd.contact_stiffness[i] += r[5];
+            self.comm.exchange(&out)
+        } else {
+            Vec::new()
+        };
+        let mut at = vec![0usize; got.len()];
+        for (k, p) in passes.iter().enumerate() {
+            p.apply_to_slaves(bodies);
+            if !deformable[k] {
+                continue;
+            }
+            let mb = bodies[p.master]
+                .as_pd_mut()
+                .expect("a deformable master has particles");
+            for (q, part) in got.iter().enumerate() {
+                let count = part[at[q]] as usize;
+                at[q] += 1;
+                for r in part[at[q]..at[q] + 5 * count].chunks_exact(5) {
+                    let (n, f) = (r[0] as usize, Vec3::new(r[1], r[2], r[3]));
+                    mb.force[n] += f;
+                    mb.contact_force[n] += f;
+                    mb.contact_stiffness[n] += r[4];
                 }
+                at[q] += 5 * count;
             }
         }
         // Per pass: contacts, missed contacts, then the block sums of its slaves' forces
@@ -324,6 +307,33 @@ impl Domain {
                 top[0] + top[1] > p.skin
             })
             .collect()
+    }
+
+    /// `width` values of each particle of `items` (of body `k`), each given by its owner's
+    /// `value`: every rank gets them all, in the order of `items`. What a frame's surface
+    /// needs without gathering the whole state. Collective.
+    pub fn collect(
+        &self,
+        k: usize,
+        items: &[usize],
+        width: usize,
+        value: impl Fn(usize, &mut Vec<f64>),
+    ) -> Vec<f64> {
+        let ranges = &self.ranges[k];
+        let mine_range = ranges[self.comm.rank()].clone();
+        let mut mine = Vec::new();
+        for &i in items.iter().filter(|&&i| mine_range.contains(&i)) {
+            value(i, &mut mine);
+        }
+        let parts = self.comm.all_gather_varcount(&mine);
+        let mut at = vec![0usize; parts.len()];
+        let mut out = Vec::with_capacity(items.len() * width);
+        for &i in items {
+            let q = owner(ranges, i);
+            out.extend_from_slice(&parts[q][at[q]..at[q] + width]);
+            at[q] += width;
+        }
+        out
     }
 
     /// Gives every rank the state (displacement, velocity, forces, contact stiffness) of every

@@ -19,7 +19,7 @@ use crate::contact::{hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::error::Result;
 use crate::math::{Vec3, NOT_A_PARTICLE};
 use crate::parallel::Comm;
-use crate::scene::{excerpt, Axis, BodyKind, ContactMethod, Kinematics, PenaltyLaw, Scene};
+use crate::scene::{excerpt, Axis, BodyKind, ContactMethod, Kinematics, Scene};
 
 /// Bodies and contact passes of a scene.
 #[derive(Clone, Debug)]
@@ -319,14 +319,16 @@ impl Model {
         for pass in &mut self.short_range {
             pass.detect(&self.bodies);
         }
-        for pass in &self.passes {
-            pass.apply(&mut self.bodies);
+        match &mut self.domain {
+            Some(d) => d.apply_contact(&mut self.bodies, &mut self.passes),
+            None => {
+                for pass in &self.passes {
+                    pass.apply(&mut self.bodies);
+                }
+            }
         }
         for pass in &self.short_range {
             pass.apply(&mut self.bodies);
-        }
-        if let Some(d) = &mut self.domain {
-            d.finish_contact(&mut self.bodies, &mut self.passes);
         }
     }
 
@@ -372,30 +374,10 @@ impl Model {
         self.passes.iter().map(|p| p.verlet.rebuilds).sum()
     }
 
-    /// Contact energy `Σ w K δ^{5/2} / (5/2)` (Hertz) or `½ w K' δ²` (linear), plus
-    /// `½ k (d − |y|)²` per short-range pair.
-    pub fn contact_energy(&self) -> f64 {
+    /// Energy `½ k (d − |y|)²` of the short-range pairs (the penalty passes' energy is
+    /// [`ContactPass::energy`](crate::contact::ContactPass::energy), counted per slave).
+    pub fn short_range_energy(&self) -> f64 {
         self.short_range.iter().map(|p| p.energy).sum::<f64>()
-            + self
-                .passes
-                .iter()
-                .map(|p| {
-                    p.contacts
-                        .iter()
-                        .map(|c| {
-                            let d = c.penetration;
-                            // ∫ F dδ for F = force(δ): force(d)·d·(2/5) for Hertz, ·(1/2) linear.
-                            // The force applied, so that a slave on a symmetry plane counts
-                            // only its share, as its force does.
-                            let f = c.force.norm();
-                            match p.law.law {
-                                PenaltyLaw::Hertz => 0.4 * f * d,
-                                PenaltyLaw::Linear => 0.5 * f * d,
-                            }
-                        })
-                        .sum::<f64>()
-                })
-                .sum::<f64>()
     }
 }
 

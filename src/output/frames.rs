@@ -26,7 +26,7 @@ use crate::output::analysis::contact_pressure;
 use std::io::Write;
 
 use crate::output::vtk::{
-    write_atomically, write_vtm, write_vtu_with_field_data, BlockNode, CellSpec, Field,
+    write_atomically, write_pvtu, write_vtm, write_vtu_with_field_data, BlockNode, CellSpec, Field,
     PvdCollection,
 };
 use crate::solver::Monitor;
@@ -155,7 +155,14 @@ impl FrameWriter {
                 removed.map_err(|e| Error::output(&path, e))?;
             }
         }
-        Ok(FrameWriter {
+        Ok(FrameWriter::for_pieces(folder, every))
+    }
+
+    /// The writer of a decomposed run's other ranks: each writes its particles' piece of
+    /// every frame into the folder the first rank's [`new`](Self::new) prepared, and
+    /// sends the first rank its surface nodes' values.
+    pub fn for_pieces(folder: &Path, every: usize) -> FrameWriter {
+        FrameWriter {
             folder: folder.to_path_buf(),
             every: every.max(1),
             adr: false,
@@ -164,7 +171,7 @@ impl FrameWriter {
             hi: 1.0,
             start: 0,
             last_written: None,
-        })
+        }
     }
 
     /// Path of the `.pvd`.
@@ -219,6 +226,14 @@ impl FrameWriter {
         } else {
             vec![("time", t), ("step", step as f64)]
         };
+        let rank = model.rank();
+        let root = rank == 0;
+        // A decomposed run: every rank writes its own particles (a piece).
+        let ranks = model
+            .domain
+            .as_ref()
+            .map(|d| d.comm().size())
+            .filter(|&r| r > 1);
         let mut blocks = Vec::new();
         let mut stems: Vec<String> = Vec::new();
         for (k, b) in model.bodies.iter().enumerate() {
@@ -231,37 +246,35 @@ impl FrameWriter {
                 Body::Deformable(pd) => {
                     let n = pd.len();
                     let reference = &pd.case.particles.position;
-                    let fields = vec![
-                        Field::vector("displacement", pd.u.clone()),
-                        Field::vector("velocity", pd.v.clone()),
-                        Field::vector("force", pd.force.clone()),
-                        Field::vector("contact_force", pd.contact_force.clone()),
-                        Field::scalar("contact_pressure", contact_pressure(model, k)),
-                        Field::int(
-                            "surface",
-                            pd.case
-                                .surface
-                                .is_surface
-                                .iter()
-                                .map(|&s| s as i32)
-                                .collect(),
-                        ),
-                        Field::vector("normal", pd.case.surface.normal.clone()),
-                        // The mesh's own boundary nodes, beside the eigenvalue surface.
-                        Field::int(
-                            "boundary_node",
-                            pd.case
-                                .segments
-                                .boundary_node
-                                .iter()
-                                .map(|&b| b as i32)
-                                .collect(),
-                        ),
-                        Field::int("body", vec![k as i32; n]),
-                        Field::scalar("volume", pd.case.particles.volume.clone()),
-                    ];
+                    let pressure = contact_pressure(model, k);
+                    // This process's particles (all of them in one process).
+                    let own = model
+                        .domain
+                        .as_ref()
+                        .map_or(0..n, |d| d.ranges[k][rank].clone());
+                    let at: Vec<usize> = own.clone().collect();
+                    let fields = point_fields(
+                        model,
+                        k,
+                        &at,
+                        |i| [pd.u[i], pd.v[i], pd.force[i], pd.contact_force[i]],
+                        |i| pressure[i],
+                    );
+                    let pfile = match ranks {
+                        Some(_) => format!("{dir_name}/{stem}_particles_{rank}.vtu"),
+                        None => format!("{dir_name}/{stem}_particles.vtu"),
+                    };
+                    write_vtu_with_field_data(
+                        &self.folder.join(&pfile),
+                        &reference[own],
+                        CellSpec::Vertices,
+                        fields.clone(),
+                        vec![],
+                        &field_data,
+                    )?;
                     // The surface: the master segments on their own nodes, numbered in order
-                    // of first use, with the particles' values there.
+                    // of first use, with the particles' values there (in a decomposed run,
+                    // sent by their owners: this also waits for every rank's piece).
                     let mut local = vec![u32::MAX; n];
                     let mut nodes: Vec<usize> = Vec::new();
                     let quads: Vec<[u32; 4]> = pd
@@ -278,17 +291,42 @@ impl FrameWriter {
                             })
                         })
                         .collect();
-                    let surface_fields = fields.iter().map(|f| pick(f, &nodes)).collect();
-                    let pfile = format!("{dir_name}/{stem}_particles.vtu");
+                    let surface_fields = match &model.domain {
+                        Some(d) => {
+                            let got = d.collect(k, &nodes, 13, |i, out| {
+                                for v in [pd.u[i], pd.v[i], pd.force[i], pd.contact_force[i]] {
+                                    out.extend(v.iter());
+                                }
+                                out.push(pressure[i]);
+                            });
+                            let row = |m: usize| &got[13 * m..13 * m + 13];
+                            let v3 = |m: usize, c: usize| {
+                                let r = row(m);
+                                Vec3::new(r[3 * c], r[3 * c + 1], r[3 * c + 2])
+                            };
+                            let slot: Vec<usize> = (0..nodes.len()).collect();
+                            // `point_fields` by the nodes' slot in `got`.
+                            point_fields_at(
+                                model,
+                                k,
+                                &nodes,
+                                &slot,
+                                |m| [v3(m, 0), v3(m, 1), v3(m, 2), v3(m, 3)],
+                                |m| row(m)[12],
+                            )
+                        }
+                        None => point_fields(
+                            model,
+                            k,
+                            &nodes,
+                            |i| [pd.u[i], pd.v[i], pd.force[i], pd.contact_force[i]],
+                            |i| pressure[i],
+                        ),
+                    };
+                    if !root {
+                        continue;
+                    }
                     let sfile = format!("{dir_name}/{stem}_surface.vtu");
-                    write_vtu_with_field_data(
-                        &self.folder.join(&pfile),
-                        &reference[..n],
-                        CellSpec::Vertices,
-                        fields,
-                        vec![],
-                        &field_data,
-                    )?;
                     let surface_points: Vec<Vec3> = nodes.iter().map(|&i| reference[i]).collect();
                     let cells = quads.len();
                     write_vtu_with_field_data(
@@ -299,14 +337,31 @@ impl FrameWriter {
                         vec![Field::int("body", vec![k as i32; cells])],
                         &field_data,
                     )?;
+                    // A decomposed run's particles: one piece per rank, a multi-piece block
+                    // of the frame, and a `.pvtu` (VTK's parallel unstructured grid) beside
+                    // them for those who open the particles alone.
+                    let particles = match ranks {
+                        Some(r) => {
+                            let pieces: Vec<String> = (0..r)
+                                .map(|q| format!("{stem}_particles_{q}.vtu"))
+                                .collect();
+                            let pvtu = self
+                                .folder
+                                .join(format!("{dir_name}/{stem}_particles.pvtu"));
+                            write_pvtu(&pvtu, &pieces, &fields)?;
+                            BlockNode::Pieces(
+                                "particles".into(),
+                                pieces.iter().map(|p| format!("{dir_name}/{p}")).collect(),
+                            )
+                        }
+                        None => BlockNode::DataSet("particles".into(), pfile),
+                    };
                     blocks.push(BlockNode::Block(
                         b.name().to_string(),
-                        vec![
-                            BlockNode::DataSet("particles".into(), pfile),
-                            BlockNode::DataSet("surface".into(), sfile),
-                        ],
+                        vec![particles, BlockNode::DataSet("surface".into(), sfile)],
                     ));
                 }
+                Body::Rigid(_) if !root => {}
                 Body::Rigid(rb) => {
                     let file = format!("{dir_name}/{stem}.vtu");
                     let quads: Vec<[u32; 4]> = rb.faces.iter().map(|f| f.nodes).collect();
@@ -325,6 +380,10 @@ impl FrameWriter {
                     blocks.push(BlockNode::DataSet(b.name().to_string(), file));
                 }
             }
+        }
+        if !root {
+            self.last_written = Some(step);
+            return Ok(());
         }
         if self.entries.is_empty() {
             let view = self.folder.join(VIEW_NAME);
@@ -351,14 +410,63 @@ impl FrameWriter {
     }
 }
 
-/// The values of a per-particle field at `nodes`.
-fn pick(f: &Field, nodes: &[usize]) -> Field {
-    match f {
-        Field::Scalar(n, d) => Field::Scalar(n.clone(), nodes.iter().map(|&i| d[i]).collect()),
-        Field::Vector(n, d) => Field::Vector(n.clone(), nodes.iter().map(|&i| d[i]).collect()),
-        Field::Int(n, d) => Field::Int(n.clone(), nodes.iter().map(|&i| d[i]).collect()),
-        Field::Id(n, d) => Field::Id(n.clone(), nodes.iter().map(|&i| d[i]).collect()),
-    }
+/// The point fields of body `k` at its particles `at`: the state from `state(i)` (`u`, `v`,
+/// force, contact force) and `pressure(i)`, the rest from the case.
+fn point_fields(
+    model: &Model,
+    k: usize,
+    at: &[usize],
+    state: impl Fn(usize) -> [Vec3; 4],
+    pressure: impl Fn(usize) -> f64,
+) -> Vec<Field> {
+    point_fields_at(model, k, at, at, state, pressure)
+}
+
+/// [`point_fields`] with the state of particle `at[m]` read at `slot[m]`.
+fn point_fields_at(
+    model: &Model,
+    k: usize,
+    at: &[usize],
+    slot: &[usize],
+    state: impl Fn(usize) -> [Vec3; 4],
+    pressure: impl Fn(usize) -> f64,
+) -> Vec<Field> {
+    let pd = model.bodies[k].as_pd().expect("a deformable body");
+    let states: Vec<[Vec3; 4]> = slot.iter().map(|&m| state(m)).collect();
+    let column = |c: usize| states.iter().map(|s| s[c]).collect::<Vec<Vec3>>();
+    let case = &pd.case;
+    vec![
+        Field::vector("displacement", column(0)),
+        Field::vector("velocity", column(1)),
+        Field::vector("force", column(2)),
+        Field::vector("contact_force", column(3)),
+        Field::scalar(
+            "contact_pressure",
+            slot.iter().map(|&m| pressure(m)).collect(),
+        ),
+        Field::int(
+            "surface",
+            at.iter()
+                .map(|&i| case.surface.is_surface[i] as i32)
+                .collect(),
+        ),
+        Field::vector(
+            "normal",
+            at.iter().map(|&i| case.surface.normal[i]).collect(),
+        ),
+        // The mesh's own boundary nodes, beside the eigenvalue surface.
+        Field::int(
+            "boundary_node",
+            at.iter()
+                .map(|&i| case.segments.boundary_node[i] as i32)
+                .collect(),
+        ),
+        Field::int("body", vec![k as i32; at.len()]),
+        Field::scalar(
+            "volume",
+            at.iter().map(|&i| case.particles.volume[i]).collect(),
+        ),
+    ]
 }
 
 /// Progress bar + frames: the monitor of `run` and `demo`.
@@ -370,9 +478,6 @@ pub struct RunMonitor {
     /// The last step reported: number, (pseudo-)time and measure (residual or energy drift),
     /// so that a run that fails can still say how far it got.
     pub last_step: (usize, f64, f64),
-    /// Steps between frames: on the ranks of a decomposed run that write none, still the
-    /// steps at which the state is gathered ([`Monitor::wants_state`]).
-    pub every: Option<usize>,
 }
 
 impl RunMonitor {
@@ -398,7 +503,6 @@ impl RunMonitor {
             f
         });
         RunMonitor {
-            every: frames.as_ref().map(|f| f.every),
             frames,
             bar,
             label: if adr { "residual" } else { "energy drift" },
@@ -426,10 +530,6 @@ impl Monitor for RunMonitor {
             }
         }
         Ok(())
-    }
-
-    fn wants_state(&self, step: usize) -> bool {
-        self.every.is_some_and(|e| step.is_multiple_of(e))
     }
 
     fn load_increment(&mut self, model: &Model, factor: f64, iteration: usize) -> Result<()> {

@@ -178,12 +178,43 @@ pub fn write_vtu_with_field_data(
 }
 
 /// A node of a `.vtm` multiblock: a named block of nodes, or a named dataset file.
+/// Writes a `.pvtu`: the unstructured grid made of the `.vtu` `pieces` (paths relative to
+/// it), each written by [`write_vtu_with_field_data`] with point data `fields` (their names
+/// and types; the values are in the pieces). ParaView and VTK's `vtkXMLPUnstructuredGridReader`
+/// read it as one dataset.
+pub fn write_pvtu(path: &Path, pieces: &[String], fields: &[Field]) -> Result<()> {
+    let mut s = String::from(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n    <PPointData>\n",
+    );
+    for f in fields {
+        let (name, kind, components) = match f {
+            Field::Scalar(n, _) => (n, "Float64", 1),
+            Field::Vector(n, _) => (n, "Float64", 3),
+            Field::Int(n, _) => (n, "Int32", 1),
+            Field::Id(n, _) => (n, "Int64", 1),
+        };
+        s.push_str(&format!(
+            "      <PDataArray type=\"{kind}\" Name=\"{}\" NumberOfComponents=\"{components}\"/>\n",
+            xml_escape(name)
+        ));
+    }
+    s.push_str("    </PPointData>\n    <PPoints>\n      <PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n    </PPoints>\n");
+    for p in pieces {
+        s.push_str(&format!("    <Piece Source=\"{}\"/>\n", xml_escape(p)));
+    }
+    s.push_str("  </PUnstructuredGrid>\n</VTKFile>\n");
+    write_atomically(path, |w| w.write_all(s.as_bytes()))
+}
+
 #[derive(Clone, Debug)]
 pub enum BlockNode {
     /// A named block holding other nodes.
     Block(String, Vec<BlockNode>),
     /// A named dataset stored in `file` (relative to the `.vtm`).
     DataSet(String, String),
+    /// A named dataset in pieces (files relative to the `.vtm`), one per rank of a decomposed
+    /// run: VTK reads it as a `vtkMultiPieceDataSet`, ParaView shows it as one block.
+    Pieces(String, Vec<String>),
 }
 
 /// Writes a `.vtm` multiblock file (atomically); ParaView shows the names in its Multiblock
@@ -206,6 +237,19 @@ pub fn write_vtm(path: &Path, nodes: &[BlockNode]) -> Result<()> {
                     xml_escape(name),
                     xml_escape(file)
                 )),
+                BlockNode::Pieces(name, files) => {
+                    s.push_str(&format!(
+                        "{pad}<Piece index=\"{k}\" name=\"{}\">\n",
+                        xml_escape(name)
+                    ));
+                    for (q, file) in files.iter().enumerate() {
+                        s.push_str(&format!(
+                            "{pad}  <DataSet index=\"{q}\" file=\"{}\"/>\n",
+                            xml_escape(file)
+                        ));
+                    }
+                    s.push_str(&format!("{pad}</Piece>\n"));
+                }
             }
         }
     }

@@ -14,6 +14,8 @@ pub mod mpi;
 
 use std::ops::Range;
 
+use crate::math::Vec3;
+
 /// A message-passing layer over `size()` processes. Every method is collective: all ranks
 /// call it, in the same order.
 pub trait Comm: Send + Sync {
@@ -89,6 +91,76 @@ pub fn split_by_cost(cost: &[usize], parts: usize, align: usize) -> Vec<Range<us
         ((at + align / 2) / align * align).min(cost.len())
     };
     (0..parts).map(|r| cut(r)..cut(r + 1)).collect()
+}
+
+/// The ghosts of one rank in one body: the particles it reads but does not own, received
+/// from their owners before every force evaluation, and those it sends to the other ranks.
+#[derive(Clone, Debug, Default)]
+pub struct Ghosts {
+    /// Per rank: the particles this rank sends to it.
+    pub send: Vec<Vec<u32>>,
+    /// Per rank: the ghosts this rank receives from it, in the order they are sent.
+    pub recv: Vec<Vec<u32>>,
+}
+
+impl Ghosts {
+    /// The ghosts of this rank: the particles `j` with `need[j]` outside its own range of
+    /// `ranges`, asked of their owners. Collective.
+    pub fn new(comm: &dyn Comm, ranges: &[Range<usize>], need: &[bool]) -> Ghosts {
+        let size = comm.size();
+        let mine = ranges[comm.rank()].clone();
+        let mut asks: Vec<Vec<f64>> = vec![Vec::new(); size];
+        let mut recv: Vec<Vec<u32>> = vec![Vec::new(); size];
+        for (j, _) in need
+            .iter()
+            .enumerate()
+            .filter(|(j, &x)| x && !mine.contains(j))
+        {
+            let q = owner(ranges, j);
+            asks[q].push(j as f64);
+            recv[q].push(j as u32);
+        }
+        let send = comm
+            .exchange(&asks)
+            .into_iter()
+            .map(|v| v.into_iter().map(|j| j as u32).collect())
+            .collect();
+        Ghosts { send, recv }
+    }
+
+    /// Ghosts received, from all ranks.
+    pub fn count(&self) -> usize {
+        self.recv.iter().map(Vec::len).sum()
+    }
+
+    /// Appends to `out[q]` the values this rank sends to rank `q`.
+    pub fn pack(&self, values: &[Vec3], out: &mut [Vec<f64>]) {
+        for (o, list) in out.iter_mut().zip(&self.send) {
+            o.extend(
+                list.iter()
+                    .flat_map(|&i| values[i as usize].iter().copied()),
+            );
+        }
+    }
+
+    /// Takes this rank's ghosts from `got[q]` (what rank `q` sent), from `at[q]` on.
+    pub fn unpack(&self, got: &[Vec<f64>], at: &mut [usize], values: &mut [Vec3]) {
+        for (q, list) in self.recv.iter().enumerate() {
+            for &i in list {
+                let v = &got[q][at[q]..at[q] + 3];
+                values[i as usize] = Vec3::new(v[0], v[1], v[2]);
+                at[q] += 3;
+            }
+        }
+    }
+
+    /// Gives every ghost its owner's value. Collective.
+    pub fn share(&self, comm: &dyn Comm, values: &mut [Vec3]) {
+        let mut out = vec![Vec::new(); comm.size()];
+        self.pack(values, &mut out);
+        let got = comm.exchange(&out);
+        self.unpack(&got, &mut vec![0; got.len()], values);
+    }
 }
 
 /// The rank whose range holds `i`.

@@ -247,22 +247,18 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
         }
     }
     let frames = if root {
-        Some(FrameWriter::new(&folder, scene.output.every)?)
+        FrameWriter::new(&folder, scene.output.every)?
     } else {
-        None
+        FrameWriter::for_pieces(&folder, scene.output.every)
     };
-    let pvd = frames.as_ref().map_or_else(
-        || folder.join(crate::output::PVD_NAME),
-        FrameWriter::pvd_path,
-    );
+    let pvd = frames.pvd_path();
     let stop = options.stop.clone().unwrap_or_default();
     let mut monitor = RunMonitor::new(
-        frames,
+        Some(frames),
         options.quiet || !root,
         scene.solver.kind == SolverKind::Adr,
         stop,
     );
-    monitor.every = Some(scene.output.every.max(1));
     let solve_start = Instant::now();
     let result = solve(&mut model, &scene.solver, &mut monitor);
     let solve_seconds = solve_start.elapsed().as_secs_f64();

@@ -410,9 +410,6 @@ fn adr_increment(
                 Body::Rigid(_) => {}
             }
         }
-        if monitor.wants_state(n) {
-            model.gather();
-        }
         monitor.step(model, n, n as f64, rel)?;
     }
     Ok(n)

@@ -7,6 +7,7 @@ use crate::body::{Body, PdBody};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::model::Model;
+use crate::reduction::block_sums;
 use crate::scene::{Motion, SolverSpec};
 
 /// The stable explicit time step, tightened for contact: `2/ω_max`, with `ω_max²` the largest
@@ -126,21 +127,49 @@ fn highest_eigenvalue(pd: &PdBody, contact: &[f64]) -> f64 {
 }
 
 /// Total energy: kinetic + strain + contact − work of constant applied loads − work done by
-/// moving rigid bodies (accumulated by the caller).
-fn energies(model: &Model, dissipated: f64) -> (f64, f64, f64) {
-    // The particles' terms over this process's particles, summed over the ranks; the rigid
-    // bodies' (replicated on every rank) once.
-    let mut mine = [0.0, 0.0, model.contact_energy(), dissipated];
-    for pd in model.bodies.iter().filter_map(Body::as_pd) {
-        mine[0] += pd.kinetic_energy() + pd.strain_energy();
-        mine[1] += pd.load[pd.owned.clone()]
-            .iter()
-            .zip(&pd.u[pd.owned.clone()])
-            .map(|(f, u)| f.dot(u))
-            .sum::<f64>();
+/// moving rigid bodies (accumulated by the caller), and the energy damping removed
+/// (`dissipated`, per body and particle). The particles' terms (a contact's energy on its
+/// slave) are summed block by block of particles in a fixed order, so that the thread and
+/// rank counts do not change their bits; the rigid bodies' (replicated on every rank) once.
+fn energies(model: &Model, dissipated: &[Vec<f64>]) -> (f64, f64, f64) {
+    let mut contact: Vec<Vec<f64>> = vec![Vec::new(); model.bodies.len()];
+    for p in model.passes.iter().filter(|p| !p.contacts.is_empty()) {
+        let e = &mut contact[p.slave];
+        if e.is_empty() {
+            e.resize(model.bodies[p.slave].as_pd().map_or(0, PdBody::len), 0.0);
+        }
+        for c in &p.contacts {
+            e[c.slave as usize] += p.energy(c);
+        }
     }
-    let total = model.sum_over_ranks(mine.to_vec());
-    let (mut physical, mut work) = (total[0] + total[2], total[1]);
+    let mut mine = Vec::new();
+    let mut pos = Vec::new();
+    for (k, b) in model.bodies.iter().enumerate() {
+        let Body::Deformable(pd) = b else { continue };
+        pd.extended_positions(&mut pos);
+        let (contact, dissipated) = (&contact[k], &dissipated[k]);
+        let blocks = block_sums(
+            pd.owned.clone(),
+            || [0.0; 3],
+            |i| {
+                [
+                    pd.kinetic_energy_of(i)
+                        + pd.strain_energy_of(i, &pos)
+                        + contact.get(i).copied().unwrap_or(0.0),
+                    pd.load[i].dot(&pd.u[i]),
+                    dissipated.get(i).copied().unwrap_or(0.0),
+                ]
+            },
+            add3,
+        );
+        mine.extend(blocks.iter().flatten());
+    }
+    mine.push(model.short_range_energy());
+    let (sums, extra) = model.sum_blocks(mine, 3, 1);
+    let total = sums
+        .iter()
+        .fold([0.0; 3], |a, s| add3(a, [s[0], s[1], s[2]]));
+    let (mut physical, mut work) = (total[0] + extra[0], total[1]);
     for b in &model.bodies {
         if let Body::Rigid(rb) = b {
             if rb.motion == Motion::Free {
@@ -149,7 +178,11 @@ fn energies(model: &Model, dissipated: f64) -> (f64, f64, f64) {
             }
         }
     }
-    (physical, work, total[3])
+    (physical, work, total[2])
+}
+
+fn add3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
 
 /// Explicit dynamics by velocity Verlet.
@@ -177,7 +210,15 @@ pub fn explicit(
     // Velocities are scaled by this once a step; the kinetic energy it removes is booked as
     // dissipated so that the energy balance still holds.
     let decay = (-damping * dt).exp();
-    let mut dissipated = 0.0;
+    // The kinetic energy damping removed, per body and particle (empty without damping).
+    let mut dissipated: Vec<Vec<f64>> = model
+        .bodies
+        .iter()
+        .map(|b| match b.as_pd() {
+            Some(pd) if damping > 0.0 => vec![0.0; pd.len()],
+            _ => Vec::new(),
+        })
+        .collect();
     let steps = (end / dt).ceil() as usize;
     let mut stats = RunStats {
         solver: "explicit".into(),
@@ -196,7 +237,7 @@ pub fn explicit(
         .fold(0.0, f64::max);
 
     model.compute_forces();
-    let (e0_phys, w0, _) = energies(model, 0.0);
+    let (e0_phys, w0, _) = energies(model, &dissipated);
     let mut e0 = e0_phys - w0;
     let mut rigid_work = 0.0;
     let mut e_scale = e0_phys.abs();
@@ -252,11 +293,12 @@ pub fn explicit(
             }
         }
         if damping > 0.0 {
-            for pd in model.bodies.iter_mut().filter_map(Body::as_pd_mut) {
-                let before = pd.kinetic_energy();
-                let own = pd.owned.clone();
-                pd.v[own].iter_mut().for_each(|v| *v *= decay);
-                dissipated += before * (1.0 - decay * decay);
+            for (b, lost) in model.bodies.iter_mut().zip(&mut dissipated) {
+                let Body::Deformable(pd) = b else { continue };
+                for i in pd.owned.clone() {
+                    lost[i] += pd.kinetic_energy_of(i) * (1.0 - decay * decay);
+                    pd.v[i] *= decay;
+                }
             }
         }
         let t = step as f64 * dt;
@@ -264,27 +306,33 @@ pub fn explicit(
         stats.time = t;
         // One sum over the ranks a step: non-finite values, the kinetic energy and the work of
         // the loads over this process's particles, and the stop flag.
-        let mut mine = [0.0, 0.0, 0.0, f64::from(u8::from(monitor.interrupted()))];
+        let mut mine = Vec::new();
         for pd in model.bodies.iter().filter_map(Body::as_pd) {
-            let own = pd.owned.clone();
-            let finite = pd.u[own.clone()]
-                .iter()
-                .chain(&pd.force[own.clone()])
-                .all(|v| v.iter().all(|c| c.is_finite()));
-            mine[0] += f64::from(u8::from(!finite));
-            mine[1] += pd.kinetic_energy();
-            mine[2] += pd.load[own.clone()]
-                .iter()
-                .zip(&pd.u[own])
-                .map(|(f, u)| f.dot(u))
-                .sum::<f64>();
+            let blocks = block_sums(
+                pd.owned.clone(),
+                || [0.0; 3],
+                |i| {
+                    let finite = pd.u[i].iter().chain(&pd.force[i]).all(|c| c.is_finite());
+                    [
+                        f64::from(u8::from(!finite)),
+                        pd.kinetic_energy_of(i),
+                        pd.load[i].dot(&pd.u[i]),
+                    ]
+                },
+                add3,
+            );
+            mine.extend(blocks.iter().flatten());
         }
-        let total = model.sum_over_ranks(mine.to_vec());
+        mine.push(f64::from(u8::from(monitor.interrupted())));
+        let (sums, flags) = model.sum_blocks(mine, 3, 1);
+        let total = sums
+            .iter()
+            .fold([0.0; 3], |a, s| add3(a, [s[0], s[1], s[2]]));
         if total[0] > 0.0 {
             model.gather();
             check_finite(model, step, "step")?;
         }
-        let interrupted = total[3] > 0.0;
+        let interrupted = flags[0] > 0.0;
         check_missed(model, step, "step", Some(dt))?;
         let contacts = model.contact_count();
         if contacts > 0 {
@@ -312,7 +360,7 @@ pub fn explicit(
             )));
         }
         if step.is_multiple_of(check_every) || step == steps {
-            let (phys, work, dissipated) = energies(model, dissipated);
+            let (phys, work, dissipated) = energies(model, &dissipated);
             e_scale = e_scale.max(phys.abs());
             let total = phys - work - rigid_work + dissipated;
             if step == check_every && e0 == 0.0 {
@@ -340,9 +388,6 @@ pub fn explicit(
                     "displacement grew to {umax:.3e} m (10x the body size) by step {step}: the run blew up; likely cause: time step dt = {dt:.3e} s"
                 )));
             }
-        }
-        if monitor.wants_state(step) {
-            model.gather();
         }
         monitor.step(model, step, t, stats.energy_drift)?;
         if spec.stop_after_rebound && stats.rebounded {

@@ -58,11 +58,6 @@ pub trait Monitor {
     }
     /// Called once at the end with the last state.
     fn finish(&mut self, model: &Model, step: usize, time: f64) -> Result<()>;
-    /// Whether `step` reads the whole model (a frame is due): in a decomposed run the solver
-    /// then gathers every particle's state first. Must answer alike on every rank.
-    fn wants_state(&self, _step: usize) -> bool {
-        false
-    }
     /// Whether the user asked to stop (Ctrl-C); the solver then writes the last frame and ends.
     fn interrupted(&self) -> bool {
         false
