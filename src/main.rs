@@ -282,9 +282,17 @@ fn interrupted(summary: &pdcontact::run::RunSummary) -> Outcome {
 }
 
 fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
-    if comm.is_some() && !matches!(cli.command, Command::Run { check: false, .. }) {
+    let decomposed = matches!(cli.command, Command::Run { check: false, .. })
+        || matches!(
+            cli.command,
+            Command::Bench {
+                lattice_sphere: Some(_),
+                ..
+            }
+        );
+    if comm.is_some() && !decomposed {
         return Err(Error::input(
-            "under mpirun only `pdcontact run SCENE` runs over several processes: run the other commands once, without mpirun",
+            "under mpirun only `pdcontact run SCENE` and `pdcontact bench --lattice-sphere DX` run over several processes: run the other commands once, without mpirun",
         ));
     }
     match cli.command {
@@ -452,8 +460,11 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 steps,
                 threads,
             };
-            let report = pdcontact::studies::bench::run_lattice_sphere(&spec)?;
-            print_report(json, &report, || report.to_text(&spec));
+            let report = pdcontact::studies::bench::run_lattice_sphere(&spec, comm.as_deref())?;
+            // Under mpirun the first rank speaks for all.
+            if comm.as_ref().is_none_or(|c| c.rank() == 0) {
+                print_report(json, &report, || report.to_text(&spec));
+            }
             Ok(Outcome::Done)
         }
         Command::Run {

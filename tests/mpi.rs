@@ -230,3 +230,55 @@ master = "plane"
     assert!(num(sa, "energy_drift") < 1e-3, "{a}");
     assert_eq!(sa["energy_drift"], sb["energy_drift"]);
 }
+
+/// The bond-force benchmark decomposed over 2 ranks: the energies of the one-process run, bit
+/// for bit, every particle owned once, and each rank's memory reported.
+#[test]
+fn bench_on_two_ranks() {
+    let bench = |ranks: Option<usize>| -> serde_json::Value {
+        let args = [
+            "bench",
+            "--lattice-sphere",
+            "0.1",
+            "--steps",
+            "20",
+            "--threads",
+            "1",
+            "--json",
+        ];
+        let out = match ranks {
+            None => Command::new(exe()).args(args).output(),
+            Some(n) => Command::new("mpirun")
+                .args(["--oversubscribe", "-n", &n.to_string(), exe()])
+                .args(args)
+                .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+                .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+                .output(),
+        }
+        .expect("runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).expect("one JSON report, from the first rank")
+    };
+    let (one, two) = (bench(None), bench(Some(2)));
+    assert_eq!(one["ranks"], 1);
+    assert_eq!(two["ranks"], 2);
+    for key in ["particles", "initial_energy", "final_energy"] {
+        assert_eq!(one[key], two[key], "{key}");
+    }
+    let ranks = two["per_rank"].as_array().expect("per rank");
+    let owned: u64 = ranks
+        .iter()
+        .map(|r| r["particles"].as_u64().expect("count"))
+        .sum();
+    assert_eq!(owned, one["particles"].as_u64().expect("count"));
+    for r in ranks {
+        assert!(r["ghosts"].as_u64().expect("ghosts") > 0, "{r}");
+        if let Some(mb) = r["resident_mb"].as_f64() {
+            assert!(mb > 0.0, "{r}");
+        }
+    }
+}

@@ -23,6 +23,7 @@ use crate::case::neighbours::build_pairs;
 use crate::case::pairs::{pair_forces, ForceBuffers, PairKinematics, PairList};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
+use crate::parallel::{split_by_cost, Comm, Ghosts};
 
 /// Radius of the sphere, m.
 pub const RADIUS: f64 = 1.0;
@@ -82,8 +83,30 @@ pub struct BenchReport {
     pub bytes_per_bond: f64,
     /// Pairs evaluated twice per pair (those that join two threads' ranges, which each
     /// thread evaluates so that every particle's force is summed in one order): what the
-    /// threads cost beyond one; 0 on one thread.
+    /// threads cost beyond one; 0 on one thread. Of the first rank under `mpirun`.
     pub halo_pairs_per_pair: f64,
+    /// Processes (`mpirun -n`; 1 without).
+    pub ranks: usize,
+    /// Per process: what it owned, received and held.
+    pub per_rank: Vec<RankFigures>,
+}
+
+/// One process of a benchmark run.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct RankFigures {
+    /// Particles it owns (moves and computes the forces of).
+    pub particles: usize,
+    /// Ghost particles it receives every step (bond partners of its particles).
+    pub ghosts: usize,
+    /// Directed bonds it evaluates (its pairs, those shared with another rank included).
+    pub directed_bonds: usize,
+    /// Peak resident memory (`VmHWM`), MB: the setup included, which builds the whole bond
+    /// list before each rank keeps its part.
+    pub peak_rss_mb: Option<f64>,
+    /// Resident memory after the time-step loop (`VmRSS`), MB: what a rank holds while it runs.
+    pub resident_mb: Option<f64>,
+    /// Its own loop time, s.
+    pub loop_seconds: f64,
 }
 
 impl BenchReport {
@@ -123,12 +146,31 @@ impl BenchReport {
                 format!("{:.4}", self.halo_pairs_per_pair),
             ),
             ("peak RSS (MB)".into(), rss),
+            ("processes".into(), self.ranks.to_string()),
             (
                 "energy (J) before / after".into(),
                 format!("{:.6e} / {:.6e}", self.initial_energy, self.final_energy),
             ),
             ("energy drift".into(), format!("{:.3e}", self.energy_drift)),
         ];
+        let mut rows = rows.to_vec();
+        if self.ranks > 1 {
+            let mb = |m: Option<f64>| m.map_or("-".to_string(), |m| format!("{m:.0}"));
+            for (q, r) in self.per_rank.iter().enumerate() {
+                rows.push((
+                    format!("rank {q}"),
+                    format!(
+                        "{} particles, {} ghosts, {} directed bonds, {:.3} s; peak / resident MB {} / {}",
+                        r.particles,
+                        r.ghosts,
+                        r.directed_bonds,
+                        r.loop_seconds,
+                        mb(r.peak_rss_mb),
+                        mb(r.resident_mb)
+                    ),
+                ));
+            }
+        }
         let width = rows.iter().map(|r| r.0.chars().count()).max().unwrap_or(0);
         rows.iter()
             .map(|(k, v)| format!("{k:<width$}  {v}\n"))
@@ -136,8 +178,12 @@ impl BenchReport {
     }
 }
 
-/// Runs the benchmark in a rayon pool of the requested size.
-pub fn run_lattice_sphere(spec: &LatticeSphere) -> Result<BenchReport> {
+/// Runs the benchmark in a rayon pool of the requested size; with `comm` (the ranks of
+/// `mpirun`), decomposed as `pdcontact run` decomposes a body: each rank owns a range of the
+/// Morton-ordered particles with equal bond counts, evaluates the pairs that touch them and
+/// receives its ghosts' positions every step. The energies are summed in blocks in a fixed
+/// order, so any number of threads and ranks reports the same bits.
+pub fn run_lattice_sphere(spec: &LatticeSphere, comm: Option<&dyn Comm>) -> Result<BenchReport> {
     if !(spec.spacing > 0.0 && spec.spacing.is_finite() && spec.spacing < RADIUS) {
         return Err(Error::input(format!(
             "--lattice-sphere: the spacing must be a length in (0, {RADIUS}) m, got {}",
@@ -170,7 +216,8 @@ pub fn run_lattice_sphere(spec: &LatticeSphere) -> Result<BenchReport> {
     let pool = builder
         .build()
         .map_err(|e| Error::input(format!("cannot start the thread pool: {e}")))?;
-    Ok(pool.install(|| run_in_pool(spec)))
+    let comm = comm.filter(|c| c.size() > 1);
+    Ok(pool.install(|| run_in_pool(spec, comm)))
 }
 
 /// The lattice points of spacing `dx` within the sphere, in Morton order.
@@ -194,7 +241,7 @@ pub fn lattice_sphere(dx: f64) -> Vec<Vec3> {
     order.iter().map(|&k| points[k as usize]).collect()
 }
 
-fn run_in_pool(spec: &LatticeSphere) -> BenchReport {
+fn run_in_pool(spec: &LatticeSphere, comm: Option<&dyn Comm>) -> BenchReport {
     let threads = rayon::current_num_threads();
     let start = Instant::now();
     let dx = spec.spacing;
@@ -203,10 +250,25 @@ fn run_in_pool(spec: &LatticeSphere) -> BenchReport {
     let n = x.len();
     let volume = dx * dx * dx;
     let c = micromodulus(YOUNGS, horizon);
-    let list = PairList::from_pairs(build_pairs(&x, horizon), |pairs, _, b| {
+    let whole = PairList::from_pairs(build_pairs(&x, horizon), |pairs, _, b| {
         let l = pairs.length(b);
         (c * volume_correction(l, horizon, dx) * volume * volume / l) as f32
     });
+    let directed = whole.directed_bonds();
+    let bond_bytes = whole.bytes();
+    // A rank keeps the pairs that touch its particles and learns which ghosts it reads.
+    let (list, own, ghosts) = match comm {
+        Some(c) => {
+            let cost: Vec<usize> = (0..n).map(|i| whole.row_pairs(i) + 1).collect();
+            let ranges = split_by_cost(&cost, c.size(), crate::reduction::BLOCK);
+            let own = ranges[c.rank()].clone();
+            let list = whole.restricted(own.clone());
+            drop(whole);
+            let ghosts = Ghosts::new(c, &ranges, &list.particles_read());
+            (list, own, ghosts)
+        }
+        None => (whole, 0..n, Ghosts::default()),
+    };
     let mass = DENSITY * volume;
     let mut y = x.clone();
     // Force and velocity of each particle, side by side: the force pass kicks the velocity.
@@ -221,21 +283,24 @@ fn run_in_pool(spec: &LatticeSphere) -> BenchReport {
         |_, force, s| s.0 = force,
     );
     let setup_seconds = start.elapsed().as_secs_f64();
-    let initial_energy = energy(&y, &state, &list, mass);
+    let initial_energy = energy(&y, &state, &list, mass, own.clone(), comm);
 
     let half = 0.5 * DT / mass;
     let start = Instant::now();
     for _ in 0..spec.steps {
-        // Half kick and drift.
-        state
+        // Half kick and drift of this process's particles.
+        state[own.clone()]
             .par_chunks_mut(CHUNK)
-            .zip(y.par_chunks_mut(CHUNK))
+            .zip(y[own.clone()].par_chunks_mut(CHUNK))
             .for_each(|(s, y)| {
                 for ((f, v), y) in s.iter_mut().zip(y) {
                     *v += *f * half;
                     *y += *v * DT;
                 }
             });
+        if let Some(c) = comm {
+            ghosts.share(c, &mut y);
+        }
         // Forces at the new positions, with the second half kick in the same pass.
         pair_forces(
             &list,
@@ -250,9 +315,42 @@ fn run_in_pool(spec: &LatticeSphere) -> BenchReport {
         );
     }
     let loop_seconds = start.elapsed().as_secs_f64();
-    let final_energy = energy(&y, &state, &list, mass);
-    let directed = list.directed_bonds();
-    let bond_bytes = list.bytes();
+    let final_energy = energy(&y, &state, &list, mass, own.clone(), comm);
+    let mine = RankFigures {
+        particles: own.len(),
+        ghosts: ghosts.count(),
+        directed_bonds: list.directed_bonds(),
+        peak_rss_mb: peak_rss_mb(),
+        resident_mb: resident_mb(),
+        loop_seconds,
+    };
+    let per_rank = match comm {
+        Some(c) => {
+            let mb = |m: Option<f64>| m.unwrap_or(f64::NAN);
+            let all = c.all_gather(&[
+                mine.particles as f64,
+                mine.ghosts as f64,
+                mine.directed_bonds as f64,
+                mb(mine.peak_rss_mb),
+                mb(mine.resident_mb),
+                mine.loop_seconds,
+            ]);
+            let known = |v: f64| (!v.is_nan()).then_some(v);
+            all.chunks_exact(6)
+                .map(|r| RankFigures {
+                    particles: r[0] as usize,
+                    ghosts: r[1] as usize,
+                    directed_bonds: r[2] as usize,
+                    peak_rss_mb: known(r[3]),
+                    resident_mb: known(r[4]),
+                    loop_seconds: r[5],
+                })
+                .collect()
+        }
+        None => vec![mine],
+    };
+    // The run takes as long as its slowest rank.
+    let loop_seconds = per_rank.iter().map(|r| r.loop_seconds).fold(0.0, f64::max);
     BenchReport {
         particles: n,
         bonds_per_particle: directed as f64 / n.max(1) as f64,
@@ -267,21 +365,58 @@ fn run_in_pool(spec: &LatticeSphere) -> BenchReport {
         energy_drift: (final_energy - initial_energy).abs() / initial_energy.abs(),
         bytes_per_bond: bond_bytes as f64 / directed.max(1) as f64,
         halo_pairs_per_pair: buffers.halo_pairs_per_pair(&list),
+        ranks: per_rank.len(),
+        per_rank,
     }
 }
 
-/// Kinetic energy `Σ ½ m v²` plus strain energy `½ Σ_pairs w (|y| − L)²`.
-fn energy(y: &[Vec3], state: &[(Vec3, Vec3)], list: &PairList, mass: f64) -> f64 {
-    // In a fixed order, so that the energies reported show whether two runs agree bit for bit.
-    let kinetic =
-        crate::reduction::ordered_sum(state.len(), |i| 0.5 * mass * state[i].1.norm_squared());
-    kinetic + list.strain_energy(y)
+/// Kinetic energy `Σ ½ m v²` plus strain energy `½ Σ_pairs w (|y| − L)²`, over the particles
+/// `own` (all without `comm`) and summed over the ranks. Both sums go block by block of
+/// particles in a fixed order, so that the energies reported show whether two runs (of any
+/// thread or rank count) agree bit for bit. Collective with `comm`; the ghosts' positions
+/// must be current.
+fn energy(
+    y: &[Vec3],
+    state: &[(Vec3, Vec3)],
+    list: &PairList,
+    mass: f64,
+    own: std::ops::Range<usize>,
+    comm: Option<&dyn Comm>,
+) -> f64 {
+    let mut mine = crate::reduction::block_sums(
+        own,
+        || 0.0,
+        |i| 0.5 * mass * state[i].1.norm_squared(),
+        |a, b| a + b,
+    );
+    mine.extend(list.strain_blocks(y));
+    let parts = match comm {
+        Some(c) => c.all_gather_varcount(&mine),
+        None => vec![mine],
+    };
+    // Every rank holds as many strain blocks as kinetic ones (its rows are its particles).
+    let fold = |second: bool| {
+        parts.iter().fold(0.0, |a, p| {
+            let (k, s) = p.split_at(p.len() / 2);
+            (if second { s } else { k }).iter().fold(a, |a, b| a + b)
+        })
+    };
+    fold(false) + fold(true)
+}
+
+/// Resident set size now (`VmRSS` of /proc/self/status), MB; `None` where there is no such file.
+pub fn resident_mb() -> Option<f64> {
+    proc_status_mb("VmRSS:")
 }
 
 /// Peak resident set size (`VmHWM` of /proc/self/status), MB; `None` where there is no such file.
 pub fn peak_rss_mb() -> Option<f64> {
+    proc_status_mb("VmHWM:")
+}
+
+fn proc_status_mb(key: &str) -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let line = status.lines().find(|l| l.starts_with(key))?;
     let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kb * 1024.0 / 1e6)
 }
@@ -309,7 +444,7 @@ mod tests {
             steps: 50,
             threads: Some(2),
         };
-        let r = run_lattice_sphere(&spec).expect("runs");
+        let r = run_lattice_sphere(&spec, None).expect("runs");
         assert!(r.energy_drift < 1e-3, "drift {}", r.energy_drift);
         assert!(r.bond_updates_per_second > 0.0);
     }

@@ -213,6 +213,13 @@ impl PairList {
     /// positions `pos` (finite kinematics): a bond to an image carries the half of its
     /// mirrored pair that belongs to this model.
     pub fn strain_energy(&self, pos: &[Vec3]) -> f64 {
+        self.strain_blocks(pos).into_iter().fold(0.0, |a, b| a + b)
+    }
+
+    /// [`strain_energy`](Self::strain_energy) of the rows' pairs (pair `(i, j > i)` counted
+    /// in row `i`), summed over each block of [`BLOCK`](crate::reduction::BLOCK) rows: the
+    /// blocks of all ranks' restricted lists, added in order, give the whole list's bits.
+    pub fn strain_blocks(&self, pos: &[Vec3]) -> Vec<f64> {
         let term = |list: &BondList, w: &[f32], i: usize| -> f64 {
             list.range(i)
                 .map(|b| {
@@ -221,20 +228,46 @@ impl PairList {
                 })
                 .sum()
         };
-        crate::reduction::ordered_sum(self.particles, |i| {
-            let si = self.share.get(i).copied().unwrap_or(1.0);
-            let pairs = &self.pairs;
-            let paired: f64 = pairs
-                .range(i)
-                .map(|b| {
-                    let j = pairs.partner[b] as usize;
-                    let sj = self.share.get(j).copied().unwrap_or(1.0);
-                    let s = (pos[j] - pos[i]).norm() - pairs.length(b);
-                    (si + sj) * f64::from(self.pair_weight[b]) * s * s
-                })
-                .sum();
-            0.25 * paired + 0.25 * term(&self.images, &self.image_weight, i)
-        })
+        crate::reduction::block_sums(
+            self.rows.clone(),
+            || 0.0,
+            |i| {
+                let si = self.share.get(i).copied().unwrap_or(1.0);
+                let pairs = &self.pairs;
+                let paired: f64 = pairs
+                    .range(i)
+                    .map(|b| {
+                        let j = pairs.partner[b] as usize;
+                        let sj = self.share.get(j).copied().unwrap_or(1.0);
+                        let s = (pos[j] - pos[i]).norm() - pairs.length(b);
+                        (si + sj) * f64::from(self.pair_weight[b]) * s * s
+                    })
+                    .sum();
+                0.25 * paired + 0.25 * term(&self.images, &self.image_weight, i)
+            },
+            |a, b| a + b,
+        )
+    }
+
+    /// Pairs in row `i` (partners `j > i`): its share of a force pass's work.
+    pub fn row_pairs(&self, i: usize) -> usize {
+        self.pairs.range(i).len()
+    }
+
+    /// The real particles whose positions a pass over this list reads: both ends of its
+    /// pairs, and the particles of its image bonds.
+    pub fn particles_read(&self) -> Vec<bool> {
+        let mut read = vec![false; self.particles];
+        for i in 0..self.particles {
+            let (pairs, images) = (self.pairs.range(i), self.images.range(i));
+            if !pairs.is_empty() || !images.is_empty() {
+                read[i] = true;
+            }
+            for b in pairs {
+                read[self.pairs.partner[b] as usize] = true;
+            }
+        }
+        read
     }
 
     /// The rows cut into consecutive ranges with about equal work, one per part: a range's
