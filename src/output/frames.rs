@@ -11,6 +11,13 @@
 //! frame, so an interrupted run still leaves a collection ParaView opens. With the first frame,
 //! `view.py` is written beside it: a pvpython script showing the last frame, the slaves'
 //! surfaces coloured by `contact_pressure`, the masters translucent, the camera on the contact.
+//!
+//! In a run decomposed over MPI ranks each rank writes its own particles,
+//! `<body>_particles_<rank>.vtu`, and the first rank the rest: the `.vtm`, whose `particles`
+//! block is then a multi-piece block of those files (VTK's `vtkMultiPieceDataSet`, one block
+//! in ParaView), a `<body>_particles.pvtu` beside them that opens the particles alone, the
+//! surface (its nodes' values sent by their owners), the rigid bodies and the `.pvd`. Put
+//! together in rank order, the pieces are the one-process frame.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# One scene on 1 and 2 threads and on 2, 3 and 4 MPI ranks (one thread each): the figures of
+# summary.json with all 17 digits, the solver's milliseconds per iteration, and whether each
+# decomposed run's frames equal the 1-thread frames bit for bit (tools/check_vtk.py same,
+# with Python's vtk).
+#
+#   tools/mpi_compare.sh SCENE [OUT]      # OUT: folder for the runs (default: mpi_compare)
+#
+# PDCONTACT names the binary (default: target/release/pdcontact, built with --features mpi);
+# RUNS the runs (default: "t1 t2 n2 n3 n4": tN threads, nN ranks).
+set -euo pipefail
+scene=$1
+out=${2:-mpi_compare}
+exe=${PDCONTACT:-target/release/pdcontact}
+here=$(cd "$(dirname "$0")" && pwd)
+mkdir -p "$out"
+# Open MPI refuses to start as root without these (containers).
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+for run in ${RUNS:-t1 t2 n2 n3 n4}; do
+    dir=$out/$run
+    rm -rf "$dir"
+    case $run in
+        t*) RAYON_NUM_THREADS=${run#t} "$exe" run "$scene" -o "$dir" --quiet >/dev/null ;;
+        n*) RAYON_NUM_THREADS=1 mpirun --oversubscribe -n "${run#n}" "$exe" run "$scene" -o "$dir" --quiet >/dev/null ;;
+    esac
+    python3 - "$run" "$dir/summary.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[2])); v = s["solver"]
+print(f"{sys.argv[1]:4} iterations {v['iterations']} radius {s['contact_radius']!r} "
+      f"peak {s['peak_pressure']!r} force {s['total_contact_force'][2]!r} "
+      f"drift {v.get('energy_drift')!r} ms/iteration {1000 * s['solve_seconds'] / max(1, v['iterations']):.3f}")
+PY
+    case $run in
+        n*) if python3 -c "import vtk" 2>/dev/null && [ -d "$out/t1" ]; then
+                python3 "$here/check_vtk.py" same "$out/t1" "$dir"
+            fi ;;
+    esac
+done
