@@ -282,3 +282,56 @@ fn bench_on_two_ranks() {
         }
     }
 }
+
+/// The short-range method between two deformable bodies on 2 ranks: each rank evaluates the
+/// repulsion on its own surface particles from the other body's whole surface (its ghosts),
+/// and the counts, forces and energies are summed as one process sums them.
+#[test]
+fn short_range_on_two_ranks() {
+    let dir = temp_dir("short-range");
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        r#"
+[solver]
+kind = "adr"
+max_iterations = 20000
+[output]
+every = 100000
+[[body]]
+name = "ball"
+generator = { shape = "sphere", radius = 0.3, spacing = 0.05, center = [0.0, 0.0, 0.3] }
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[body]]
+name = "block"
+generator = { shape = "box", min = [-0.5, -0.5, -0.3], max = [0.5, 0.5, 0.0], spacing = 0.0625 }
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[constraint]]
+body = "block"
+set = "bottom"
+fix = ["x", "y", "z"]
+[[constraint]]
+body = "ball"
+set = "ball"
+fix = ["x", "y"]
+[[load]]
+body = "ball"
+set = "top"
+force = [0.0, 0.0, -1e5]
+[[contact]]
+slave = "ball"
+master = "block"
+method = "short-range"
+"#,
+    )
+    .expect("scene");
+    let (a, b) = both(&scene, 2);
+    assert_identical(&a, &b);
+    assert!(num(&a, "contact_pairs") > 0.0, "{a}");
+}

@@ -29,7 +29,9 @@
 //! of symmetry planes take part, so that a half or quarter model carries the force of the whole.
 //!
 //! The search is a cell grid over the other body's surface particles and their images, built at
-//! every evaluation, and the pairs are summed in parallel per particle. Each side of the pair is
+//! every evaluation, and the pairs are summed in parallel per particle. In a decomposed run a
+//! rank evaluates its own surface particles of both bodies ([`ShortRangePass::keep_own`]),
+//! the other body's whole surface being among its ghosts. Each side of the pair is
 //! evaluated from its own particle (the slave's from the master's particles, the master's from
 //! the slave's) with the same formula, so the forces are equal and opposite pair by pair.
 //! With a symmetry plane a particle on it holds its share of the volume and sees the whole
@@ -82,6 +84,11 @@ pub struct ShortRangePass {
     /// Surface particles of the slave and of the master.
     pub slaves: Vec<u32>,
     pub masters: Vec<u32>,
+    /// The surface particles whose forces this process evaluates: all, or a rank's own
+    /// ([`keep_own`](Self::keep_own)). Each side's force is evaluated from its own particle,
+    /// so a rank needs no reactions from the others, only the other surface's positions.
+    own_slaves: Vec<u32>,
+    own_masters: Vec<u32>,
     /// Slave particles that touched the master in the last evaluation.
     pub touching: usize,
     /// Master particles that touched the slave in the last evaluation.
@@ -95,9 +102,10 @@ pub struct ShortRangePass {
     pub energy: f64,
     /// Total force on the slave from the master in the last evaluation (N).
     pub slave_force: Vec3,
-    /// Per slave particle then per master particle, the force and the stiffness of the last
-    /// evaluation (kept to be applied after all passes have looked at the same positions).
-    slave_out: Vec<(Vec3, f64)>,
+    /// Per own slave particle then per own master particle, the force and the stiffness of
+    /// the last evaluation (kept to be applied after all passes have looked at the same
+    /// positions), and for a slave its pairs' energy.
+    slave_out: Vec<(Vec3, f64, f64)>,
     master_out: Vec<(Vec3, f64)>,
 }
 
@@ -155,8 +163,10 @@ impl ShortRangePass {
             master,
             coefficient: coefficient(sb.material.youngs, sb.case.horizon),
             distance: DISTANCE * sb.spacing(),
-            slave_out: vec![(Vec3::zeros(), 0.0); slaves.len()],
+            slave_out: vec![(Vec3::zeros(), 0.0, 0.0); slaves.len()],
             master_out: vec![(Vec3::zeros(), 0.0); masters.len()],
+            own_slaves: slaves.clone(),
+            own_masters: masters.clone(),
             slaves,
             masters,
             touching: 0,
@@ -165,6 +175,53 @@ impl ShortRangePass {
             energy: 0.0,
             slave_force: Vec3::zeros(),
         }
+    }
+
+    /// Keeps the particles of `slaves` and `masters` (ranges of the two bodies) as this
+    /// process's own: a rank of a decomposed run evaluates the forces on its own particles.
+    pub fn keep_own(&mut self, slaves: std::ops::Range<usize>, masters: std::ops::Range<usize>) {
+        self.own_slaves = self
+            .slaves
+            .iter()
+            .copied()
+            .filter(|&i| slaves.contains(&(i as usize)))
+            .collect();
+        self.own_masters = self
+            .masters
+            .iter()
+            .copied()
+            .filter(|&i| masters.contains(&(i as usize)))
+            .collect();
+    }
+
+    /// Per block of [`BLOCK`](crate::reduction::BLOCK) slave particles (in order, those with
+    /// a surface particle of this process): the force on its slaves and their pairs' energy,
+    /// `[fx, fy, fz, e]`. Added block by block in order over the ranks of a decomposed run
+    /// (whose ranges hold whole blocks), they give one process's sums.
+    pub fn block_sums(&self) -> Vec<[f64; 4]> {
+        let mut out: Vec<[f64; 4]> = Vec::new();
+        let mut block = usize::MAX;
+        for (&s, &(f, _, e)) in self.own_slaves.iter().zip(&self.slave_out) {
+            let b = s as usize / crate::reduction::BLOCK;
+            if b != block {
+                out.push([0.0; 4]);
+                block = b;
+            }
+            let g = out.last_mut().expect("pushed above");
+            for a in 0..3 {
+                g[a] += f[a];
+            }
+            g[3] += e;
+        }
+        out
+    }
+
+    /// The pairs' energy on each own slave particle: `(particle, energy)`.
+    pub fn slave_energies(&self) -> impl Iterator<Item = (u32, f64)> + '_ {
+        self.own_slaves
+            .iter()
+            .zip(&self.slave_out)
+            .map(|(&s, r)| (s, r.2))
     }
 
     /// Tangent stiffness of a pair of particles of volumes `v_i`, `v_j` (N/m).
@@ -213,29 +270,39 @@ impl ShortRangePass {
     pub fn detect(&mut self, bodies: &[Body]) {
         let sb = bodies[self.slave].as_pd().expect("slave is deformable");
         let mb = bodies[self.master].as_pd().expect("master is deformable");
-        let on_slave = self.one_side(sb, &self.slaves, &side(mb, &self.masters));
-        let on_master = self.one_side(mb, &self.masters, &side(sb, &self.slaves));
+        let on_slave = self.one_side(sb, &self.own_slaves, &side(mb, &self.masters));
+        let on_master = self.one_side(mb, &self.own_masters, &side(sb, &self.slaves));
         self.touching = on_slave.iter().filter(|r| r.0 != Vec3::zeros()).count();
         self.touched = on_master.iter().filter(|r| r.0 != Vec3::zeros()).count();
         self.missed = on_slave.iter().filter(|r| r.3).count();
-        self.energy = on_slave.iter().map(|r| r.2).sum();
-        self.slave_force = on_slave.iter().map(|r| r.0).sum();
-        self.slave_out = on_slave.iter().map(|r| (r.0, r.1)).collect();
+        self.slave_out = on_slave.iter().map(|r| (r.0, r.1, r.2)).collect();
         self.master_out = on_master.iter().map(|r| (r.0, r.1)).collect();
+        // Summed block by block, so that a decomposed run (which adds every rank's blocks in
+        // order) gets the same bits.
+        let (mut energy, mut force) = (0.0, Vec3::zeros());
+        for g in self.block_sums() {
+            force += Vec3::new(g[0], g[1], g[2]);
+            energy += g[3];
+        }
+        self.energy = energy;
+        self.slave_force = force;
     }
 
     /// Adds the forces and contact stiffnesses of the last [`ShortRangePass::detect`].
     pub fn apply(&self, bodies: &mut [Body]) {
-        for (body, own, out) in [
-            (self.slave, &self.slaves, &self.slave_out),
-            (self.master, &self.masters, &self.master_out),
-        ] {
-            let b = bodies[body].as_pd_mut().expect("deformable");
-            for (&i, &(f, k)) in own.iter().zip(out) {
-                b.force[i as usize] += f;
-                b.contact_force[i as usize] += f;
-                b.contact_stiffness[i as usize] += k;
-            }
+        let slave_side = self.slave_out.iter().map(|r| (r.0, r.1));
+        let master_side = self.master_out.iter().copied();
+        let b = bodies[self.slave].as_pd_mut().expect("deformable");
+        for (&i, (f, k)) in self.own_slaves.iter().zip(slave_side) {
+            b.force[i as usize] += f;
+            b.contact_force[i as usize] += f;
+            b.contact_stiffness[i as usize] += k;
+        }
+        let b = bodies[self.master].as_pd_mut().expect("deformable");
+        for (&i, (f, k)) in self.own_masters.iter().zip(master_side) {
+            b.force[i as usize] += f;
+            b.contact_force[i as usize] += f;
+            b.contact_stiffness[i as usize] += k;
         }
     }
 

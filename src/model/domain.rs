@@ -23,6 +23,7 @@ use std::ops::Range;
 use std::sync::Arc;
 
 use crate::body::Body;
+use crate::contact::shortrange::ShortRangePass;
 use crate::contact::ContactPass;
 use crate::math::Vec3;
 use crate::parallel::{owner, split_by_cost, Comm, Ghosts};
@@ -69,7 +70,12 @@ impl fmt::Debug for Domain {
 impl Domain {
     /// Cuts every deformable body of `bodies` over the ranks of `comm` and sets up the ghost
     /// exchanges. Collective.
-    pub fn new(bodies: &[Body], passes: &[ContactPass], comm: Arc<dyn Comm>) -> Domain {
+    pub fn new(
+        bodies: &[Body],
+        passes: &[ContactPass],
+        short_range: &[ShortRangePass],
+        comm: Arc<dyn Comm>,
+    ) -> Domain {
         let (rank, size) = (comm.rank(), comm.size());
         let master: Vec<bool> = (0..bodies.len())
             .map(|k| {
@@ -105,6 +111,13 @@ impl Domain {
                     for &node in &seg.nodes {
                         need[node as usize] = true;
                     }
+                }
+            }
+            // The short-range method reads the other body's whole surface.
+            for p in short_range.iter().filter(|p| p.slave == k || p.master == k) {
+                let surface = if p.slave == k { &p.slaves } else { &p.masters };
+                for &i in surface {
+                    need[i as usize] = true;
                 }
             }
             ghosts.push(Ghosts::new(&*comm, &r, &need));
@@ -274,6 +287,46 @@ impl Domain {
                 }
             }
             self.slave_forces[k] = slave;
+        }
+    }
+
+    /// Makes every short-range pass's counts and sums those of all ranks: the touching,
+    /// touched and missed particles summed, the slave force and the energy added block by
+    /// block of slave particles in order, as one process adds them. Collective.
+    pub fn finish_short_range(&self, passes: &mut [ShortRangePass]) {
+        if passes.is_empty() {
+            return;
+        }
+        let mut mine = Vec::new();
+        for p in passes.iter() {
+            let blocks = p.block_sums();
+            mine.extend([
+                p.touching as f64,
+                p.touched as f64,
+                p.missed as f64,
+                blocks.len() as f64,
+            ]);
+            mine.extend(blocks.iter().flatten());
+        }
+        let parts = self.comm.all_gather_varcount(&mine);
+        let mut at = vec![0usize; parts.len()];
+        for p in passes.iter_mut() {
+            let (mut counts, mut force, mut energy) = ([0usize; 3], Vec3::zeros(), 0.0);
+            for (part, at) in parts.iter().zip(&mut at) {
+                for (c, v) in counts.iter_mut().zip(&part[*at..*at + 3]) {
+                    *c += *v as usize;
+                }
+                let nb = part[*at + 3] as usize;
+                *at += 4;
+                for g in part[*at..*at + 4 * nb].chunks_exact(4) {
+                    force += Vec3::new(g[0], g[1], g[2]);
+                    energy += g[3];
+                }
+                *at += 4 * nb;
+            }
+            [p.touching, p.touched, p.missed] = counts;
+            p.slave_force = force;
+            p.energy = energy;
         }
     }
 

@@ -171,12 +171,7 @@ impl Model {
     /// Decomposes the model over the ranks of `comm` ([`domain`]): from here on this process
     /// evaluates and moves its own particles. Collective.
     pub fn distribute(&mut self, comm: Arc<dyn Comm>) -> Result<()> {
-        if !self.short_range.is_empty() {
-            return Err(crate::error::Error::input(
-                "contact method \"short_range\" runs in one process only: run this scene without mpirun",
-            ));
-        }
-        let domain = Domain::new(&self.bodies, &self.passes, comm);
+        let domain = Domain::new(&self.bodies, &self.passes, &self.short_range, comm);
         let rank = domain.rank();
         for (k, body) in self.bodies.iter_mut().enumerate() {
             if let Some(pd) = body.as_pd_mut() {
@@ -187,6 +182,12 @@ impl Model {
         }
         for pass in &mut self.passes {
             pass.keep_slaves(domain.ranges[pass.slave][rank].clone());
+        }
+        for pass in &mut self.short_range {
+            pass.keep_own(
+                domain.ranges[pass.slave][rank].clone(),
+                domain.ranges[pass.master][rank].clone(),
+            );
         }
         self.domain = Some(domain);
         Ok(())
@@ -330,6 +331,9 @@ impl Model {
         for pass in &self.short_range {
             pass.apply(&mut self.bodies);
         }
+        if let Some(d) = &self.domain {
+            d.finish_short_range(&mut self.short_range);
+        }
     }
 
     /// Sum of the applied loads on all bodies.
@@ -345,11 +349,11 @@ impl Model {
 
     /// Contacts found in the last evaluation.
     pub fn contact_count(&self) -> usize {
+        let short: usize = self.short_range.iter().map(|p| p.touching).sum();
         if let Some(d) = &self.domain {
-            return d.contacts.iter().sum();
+            return d.contacts.iter().sum::<usize>() + short;
         }
-        self.passes.iter().map(|p| p.contacts.len()).sum::<usize>()
-            + self.short_range.iter().map(|p| p.touching).sum::<usize>()
+        self.passes.iter().map(|p| p.contacts.len()).sum::<usize>() + short
     }
 
     /// The force on the slaves of pass `k` in the last evaluation (over all ranks).
@@ -372,12 +376,6 @@ impl Model {
     /// Verlet rebuilds so far.
     pub fn verlet_rebuilds(&self) -> usize {
         self.passes.iter().map(|p| p.verlet.rebuilds).sum()
-    }
-
-    /// Energy `½ k (d − |y|)²` of the short-range pairs (the penalty passes' energy is
-    /// [`ContactPass::energy`](crate::contact::ContactPass::energy), counted per slave).
-    pub fn short_range_energy(&self) -> f64 {
-        self.short_range.iter().map(|p| p.energy).sum::<f64>()
     }
 }
 

@@ -142,6 +142,15 @@ fn energies(model: &Model, dissipated: &[Vec<f64>]) -> (f64, f64, f64) {
             e[c.slave as usize] += p.energy(c);
         }
     }
+    for p in &model.short_range {
+        let e = &mut contact[p.slave];
+        if e.is_empty() {
+            e.resize(model.bodies[p.slave].as_pd().map_or(0, PdBody::len), 0.0);
+        }
+        for (s, energy) in p.slave_energies() {
+            e[s as usize] += energy;
+        }
+    }
     let mut mine = Vec::new();
     let mut pos = Vec::new();
     for (k, b) in model.bodies.iter().enumerate() {
@@ -164,12 +173,11 @@ fn energies(model: &Model, dissipated: &[Vec<f64>]) -> (f64, f64, f64) {
         );
         mine.extend(blocks.iter().flatten());
     }
-    mine.push(model.short_range_energy());
-    let (sums, extra) = model.sum_blocks(mine, 3, 1);
+    let (sums, _) = model.sum_blocks(mine, 3, 0);
     let total = sums
         .iter()
         .fold([0.0; 3], |a, s| add3(a, [s[0], s[1], s[2]]));
-    let (mut physical, mut work) = (total[0] + extra[0], total[1]);
+    let (mut physical, mut work) = (total[0], total[1]);
     for b in &model.bodies {
         if let Body::Rigid(rb) = b {
             if rb.motion == Motion::Free {
