@@ -260,13 +260,17 @@ impl FrameWriter {
                         .as_ref()
                         .map_or(0..n, |d| d.ranges[k][rank].clone());
                     let at: Vec<usize> = own.clone().collect();
-                    let fields = point_fields(
-                        model,
-                        k,
-                        &at,
-                        |i| [pd.u[i], pd.v[i], pd.force[i], pd.contact_force[i]],
-                        |i| pressure[i],
-                    );
+                    // The particle's own state, where it is held.
+                    let here = |i: usize| {
+                        (
+                            [pd.u[i], pd.v[i], pd.force[i], pd.contact_force[i]],
+                            pressure[i],
+                        )
+                    };
+                    let fields = point_fields(model, k, &at, |m| here(at[m]));
+                    // The pieces' arrays, for the `.pvtu` (the fields move into the piece).
+                    let arrays: Vec<(String, &str, usize)> =
+                        fields.iter().map(Field::layout).collect();
                     let pfile = match ranks {
                         Some(_) => format!("{dir_name}/{stem}_particles_{rank}.vtu"),
                         None => format!("{dir_name}/{stem}_particles.vtu"),
@@ -275,7 +279,7 @@ impl FrameWriter {
                         &self.folder.join(&pfile),
                         &reference[own],
                         CellSpec::Vertices,
-                        fields.clone(),
+                        fields,
                         vec![],
                         &field_data,
                     )?;
@@ -301,34 +305,17 @@ impl FrameWriter {
                     let surface_fields = match &model.domain {
                         Some(d) => {
                             let got = d.collect(k, &nodes, 13, |i, out| {
-                                for v in [pd.u[i], pd.v[i], pd.force[i], pd.contact_force[i]] {
-                                    out.extend(v.iter());
-                                }
-                                out.push(pressure[i]);
+                                let (v, p) = here(i);
+                                out.extend(v.iter().flat_map(|v| v.iter()));
+                                out.push(p);
                             });
-                            let row = |m: usize| &got[13 * m..13 * m + 13];
-                            let v3 = |m: usize, c: usize| {
-                                let r = row(m);
-                                Vec3::new(r[3 * c], r[3 * c + 1], r[3 * c + 2])
-                            };
-                            let slot: Vec<usize> = (0..nodes.len()).collect();
-                            // `point_fields` by the nodes' slot in `got`.
-                            point_fields_at(
-                                model,
-                                k,
-                                &nodes,
-                                &slot,
-                                |m| [v3(m, 0), v3(m, 1), v3(m, 2), v3(m, 3)],
-                                |m| row(m)[12],
-                            )
+                            point_fields(model, k, &nodes, |m| {
+                                let r = &got[13 * m..13 * m + 13];
+                                let v3 = |c: usize| Vec3::new(r[3 * c], r[3 * c + 1], r[3 * c + 2]);
+                                ([v3(0), v3(1), v3(2), v3(3)], r[12])
+                            })
                         }
-                        None => point_fields(
-                            model,
-                            k,
-                            &nodes,
-                            |i| [pd.u[i], pd.v[i], pd.force[i], pd.contact_force[i]],
-                            |i| pressure[i],
-                        ),
+                        None => point_fields(model, k, &nodes, |m| here(nodes[m])),
                     };
                     if !root {
                         continue;
@@ -355,7 +342,7 @@ impl FrameWriter {
                             let pvtu = self
                                 .folder
                                 .join(format!("{dir_name}/{stem}_particles.pvtu"));
-                            write_pvtu(&pvtu, &pieces, &fields)?;
+                            write_pvtu(&pvtu, &pieces, &arrays)?;
                             BlockNode::Pieces(
                                 "particles".into(),
                                 pieces.iter().map(|p| format!("{dir_name}/{p}")).collect(),
@@ -417,40 +404,25 @@ impl FrameWriter {
     }
 }
 
-/// The point fields of body `k` at its particles `at`: the state from `state(i)` (`u`, `v`,
-/// force, contact force) and `pressure(i)`, the rest from the case.
+/// The point fields of body `k` at its particles `at`: the state of `at[m]` from
+/// `state(m)` (`u`, `v`, force, contact force, and the contact pressure), the rest from the
+/// case.
 fn point_fields(
     model: &Model,
     k: usize,
     at: &[usize],
-    state: impl Fn(usize) -> [Vec3; 4],
-    pressure: impl Fn(usize) -> f64,
-) -> Vec<Field> {
-    point_fields_at(model, k, at, at, state, pressure)
-}
-
-/// [`point_fields`] with the state of particle `at[m]` read at `slot[m]`.
-fn point_fields_at(
-    model: &Model,
-    k: usize,
-    at: &[usize],
-    slot: &[usize],
-    state: impl Fn(usize) -> [Vec3; 4],
-    pressure: impl Fn(usize) -> f64,
+    state: impl Fn(usize) -> ([Vec3; 4], f64),
 ) -> Vec<Field> {
     let pd = model.bodies[k].as_pd().expect("a deformable body");
-    let states: Vec<[Vec3; 4]> = slot.iter().map(|&m| state(m)).collect();
-    let column = |c: usize| states.iter().map(|s| s[c]).collect::<Vec<Vec3>>();
+    let states: Vec<([Vec3; 4], f64)> = (0..at.len()).map(state).collect();
+    let column = |c: usize| states.iter().map(|s| s.0[c]).collect::<Vec<Vec3>>();
     let case = &pd.case;
     vec![
         Field::vector("displacement", column(0)),
         Field::vector("velocity", column(1)),
         Field::vector("force", column(2)),
         Field::vector("contact_force", column(3)),
-        Field::scalar(
-            "contact_pressure",
-            slot.iter().map(|&m| pressure(m)).collect(),
-        ),
+        Field::scalar("contact_pressure", states.iter().map(|s| s.1).collect()),
         Field::int(
             "surface",
             at.iter()

@@ -56,6 +56,16 @@ impl Field {
         Field::Id(name.to_string(), data)
     }
 
+    /// Name, VTK type and components of the array this field is written as.
+    pub fn layout(&self) -> (String, &'static str, usize) {
+        match self {
+            Field::Scalar(n, _) => (n.clone(), "Float64", 1),
+            Field::Vector(n, _) => (n.clone(), "Float64", 3),
+            Field::Int(n, _) => (n.clone(), "Int32", 1),
+            Field::Id(n, _) => (n.clone(), "Int64", 1),
+        }
+    }
+
     fn into_attribute(self) -> Attribute {
         match self {
             Field::Scalar(n, d) => Attribute::DataArray(DataArray::scalars(n, 1).with_data(d)),
@@ -179,20 +189,14 @@ pub fn write_vtu_with_field_data(
 
 /// A node of a `.vtm` multiblock: a named block of nodes, or a named dataset file.
 /// Writes a `.pvtu`: the unstructured grid made of the `.vtu` `pieces` (paths relative to
-/// it), each written by [`write_vtu_with_field_data`] with point data `fields` (their names
-/// and types; the values are in the pieces). ParaView and VTK's `vtkXMLPUnstructuredGridReader`
-/// read it as one dataset.
-pub fn write_pvtu(path: &Path, pieces: &[String], fields: &[Field]) -> Result<()> {
+/// it), each written by [`write_vtu_with_field_data`] with point data of the `arrays`
+/// ([`Field::layout`]: name, VTK type, components; the values are in the pieces). ParaView
+/// and VTK's `vtkXMLPUnstructuredGridReader` read it as one dataset.
+pub fn write_pvtu(path: &Path, pieces: &[String], arrays: &[(String, &str, usize)]) -> Result<()> {
     let mut s = String::from(
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n    <PPointData>\n",
     );
-    for f in fields {
-        let (name, kind, components) = match f {
-            Field::Scalar(n, _) => (n, "Float64", 1),
-            Field::Vector(n, _) => (n, "Float64", 3),
-            Field::Int(n, _) => (n, "Int32", 1),
-            Field::Id(n, _) => (n, "Int64", 1),
-        };
+    for (name, kind, components) in arrays {
         s.push_str(&format!(
             "      <PDataArray type=\"{kind}\" Name=\"{}\" NumberOfComponents=\"{components}\"/>\n",
             xml_escape(name)
