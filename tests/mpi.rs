@@ -131,15 +131,15 @@ fn demo_on_two_ranks() {
     ]);
 }
 
-/// A sphere pressed into a deformable block, both bodies slave and master (two passes): the
-/// reactions on master nodes go to their owners, who add them in one process's order.
-#[test]
-fn two_deformable_bodies_on_three_ranks() {
-    let dir = temp_dir("dent");
+/// A scene file: a sphere (spacing 0.05 m) held on its axis, pressed by 1e5 N into a
+/// deformable block fixed at its bottom, the pair's `[[contact]]` ending with `contact`.
+fn ball_on_block(name: &str, contact: &str) -> PathBuf {
+    let dir = temp_dir(name);
     let scene = dir.join("scene.toml");
     std::fs::write(
         &scene,
-        r#"
+        format!(
+            r#"
 [solver]
 kind = "adr"
 max_iterations = 20000
@@ -147,14 +147,14 @@ max_iterations = 20000
 every = 100000
 [[body]]
 name = "ball"
-generator = { shape = "sphere", radius = 0.3, spacing = 0.05, center = [0.0, 0.0, 0.3] }
+generator = {{ shape = "sphere", radius = 0.3, spacing = 0.05, center = [0.0, 0.0, 0.3] }}
 [body.material]
 youngs_modulus = 1e9
 poisson_ratio = 0.25
 density = 1000.0
 [[body]]
 name = "block"
-generator = { shape = "box", min = [-0.5, -0.5, -0.3], max = [0.5, 0.5, 0.0], spacing = 0.0625 }
+generator = {{ shape = "box", min = [-0.5, -0.5, -0.3], max = [0.5, 0.5, 0.0], spacing = 0.0625 }}
 [body.material]
 youngs_modulus = 1e9
 poisson_ratio = 0.25
@@ -174,10 +174,19 @@ force = [0.0, 0.0, -1e5]
 [[contact]]
 slave = "ball"
 master = "block"
-two_pass = true
-"#,
+{contact}
+"#
+        ),
     )
     .expect("scene");
+    scene
+}
+
+/// A sphere pressed into a deformable block, both bodies slave and master (two passes): the
+/// reactions on master nodes go to their owners, who add them in one process's order.
+#[test]
+fn two_deformable_bodies_on_three_ranks() {
+    let scene = ball_on_block("dent", "two_pass = true");
     let (a, b) = both(&scene, 3);
     assert_identical(&a, &b);
     assert!((num(&b, "force_balance_error")) < 2e-3, "{b}");
@@ -288,49 +297,7 @@ fn bench_on_two_ranks() {
 /// and the counts, forces and energies are summed as one process sums them.
 #[test]
 fn short_range_on_two_ranks() {
-    let dir = temp_dir("short-range");
-    let scene = dir.join("scene.toml");
-    std::fs::write(
-        &scene,
-        r#"
-[solver]
-kind = "adr"
-max_iterations = 20000
-[output]
-every = 100000
-[[body]]
-name = "ball"
-generator = { shape = "sphere", radius = 0.3, spacing = 0.05, center = [0.0, 0.0, 0.3] }
-[body.material]
-youngs_modulus = 1e9
-poisson_ratio = 0.25
-density = 1000.0
-[[body]]
-name = "block"
-generator = { shape = "box", min = [-0.5, -0.5, -0.3], max = [0.5, 0.5, 0.0], spacing = 0.0625 }
-[body.material]
-youngs_modulus = 1e9
-poisson_ratio = 0.25
-density = 1000.0
-[[constraint]]
-body = "block"
-set = "bottom"
-fix = ["x", "y", "z"]
-[[constraint]]
-body = "ball"
-set = "ball"
-fix = ["x", "y"]
-[[load]]
-body = "ball"
-set = "top"
-force = [0.0, 0.0, -1e5]
-[[contact]]
-slave = "ball"
-master = "block"
-method = "short-range"
-"#,
-    )
-    .expect("scene");
+    let scene = ball_on_block("short-range", "method = \"short-range\"");
     let (a, b) = both(&scene, 2);
     assert_identical(&a, &b);
     assert!(num(&a, "contact_pairs") > 0.0, "{a}");
