@@ -1,6 +1,7 @@
 //! The Hertz sphere on meshes made as a user makes them: gmsh's default algorithms, only the
 //! element size set, on a rigid plane under a = 0.3 R (docs/VALIDATION.md). meshes/sphere_tet4_h007.geo: unstructured tet4,
-//! h = 0.07 m (force over tributary area gave MRE 20.6 %, radius +10.7 %, peak +38.8 %);
+//! h = 0.07 m (force over tributary area gave MRE 20.6 %, radius +10.7 %, peak +38.8 %;
+//! pressures are now recovered on the surface, docs/VALIDATION.md);
 //! meshes/sphere_hex_h020.geo: the tets of h = 0.2 m each split into four hexes (the paper's
 //! surface test flagged a quarter of the interior, MRE 23.9 %); meshes/sphere_tet10_h008.geo:
 //! second-order tets, h = 0.08 m. docs/VALIDATION.md,
@@ -12,7 +13,8 @@ use pdcontact::case::{CaseOptions, PdCase};
 use pdcontact::importers::read_path;
 use pdcontact::model::Model;
 use pdcontact::output::analysis::{
-    contact_patch, contact_pressure, e_star_rigid, elliptic_accuracy, hertz_sphere, Accuracy,
+    contact_patch, contact_pressure, e_star_rigid, elliptic_accuracy, hertz_sphere,
+    particle_pressure, Accuracy,
 };
 use pdcontact::run::{run_scene, RunOptions};
 use pdcontact::scene::Scene;
@@ -98,15 +100,16 @@ radius = 100.0
 #[test]
 fn hertz_sphere_on_a_gmsh_default_tet_mesh() {
     let (model, a, p0, acc, peak) = hertz_run(&mesh_path("sphere_tet4_h007.msh"), "tet4");
-    // Measured: MRE 6.41 %, radius +5.75 %, peak -2.72 %.
+    // Measured: MRE 6.70 %, radius +5.70 %, peak -5.36 % (each particle's own pressure: 6.41 %,
+    // +5.75 %, -2.72 %; on tets the error is the contact's width, not scatter).
     assert!(acc.mre < 0.075, "MRE {}", acc.mre);
     assert!(
         (acc.fitted_radius / a - 1.0).abs() < 0.07,
         "a {}",
         acc.fitted_radius / a
     );
-    assert!((peak / p0 - 1.0).abs() < 0.05, "peak {}", peak / p0);
-    // The pressure field, p_i over the pressure area A*_i, integrates to the contact force.
+    assert!((peak / p0 - 1.0).abs() < 0.07, "peak {}", peak / p0);
+    // The recovered pressure field over the pressure areas A*_i integrates to the contact force.
     let pd = model.bodies[0].as_pd().expect("deformable");
     let p = contact_pressure(&model, 0);
     let integral: f64 = p
@@ -135,7 +138,7 @@ fn hertz_sphere_on_a_gmsh_default_tet10_mesh() {
     let (model, a, p0, acc, peak) = hertz_run(&mesh_path("sphere_tet10_h008.msh"), "tet10");
     // gmsh's mesh has 55,844 nodes, of which 7,435 are corners of its 38,508 tet10.
     assert_eq!(model.bodies[0].as_pd().expect("deformable").len(), 7435);
-    // Measured: MRE 7.90 %, radius +7.07 %, peak -7.54 %.
+    // Measured: MRE 8.12 %, radius +4.96 %, peak -7.00 % (own pressures: 7.90 %, +7.07 %, -7.54 %).
     assert!(acc.mre < 0.09, "MRE {}", acc.mre);
     assert!(
         (acc.fitted_radius / a - 1.0).abs() < 0.085,
@@ -177,10 +180,25 @@ fn eigenvalue_surface_on_tets_split_into_hexes() {
 
 #[test]
 fn hertz_sphere_on_tets_split_into_hexes() {
-    let (_, a, p0, acc, peak) = hertz_run(&mesh_path("sphere_hex_h020.msh"), "hex");
-    // Measured: MRE 7.53 %, radius +2.68 %, peak +0.82 % (23.9 % while interior particles
-    // facing the plane counted as surface).
-    assert!(acc.mre < 0.085, "MRE {}", acc.mre);
+    let (model, a, p0, acc, peak) = hertz_run(&mesh_path("sphere_hex_h020.msh"), "hex");
+    // Measured: MRE 6.22 %, radius +2.52 %, peak -0.67 %. Each particle's own pressure gives
+    // 7.53 %, +2.69 %, +0.82 % (23.9 % while interior particles facing the plane counted as
+    // surface): the recovery on the surface takes out the scatter of the irregular cloud.
+    assert!(acc.mre < 0.07, "MRE {}", acc.mre);
+    let own = particle_pressure(&model, 0);
+    let patch = contact_patch(&model, 0, None).expect("in contact");
+    let inside: Vec<f64> = patch
+        .points
+        .iter()
+        .filter(|(_, r, _)| *r <= 0.8 * a)
+        .map(|&(i, r, _)| (own[i as usize] - p0 * (1.0 - (r / a).powi(2)).sqrt()).abs() / p0)
+        .collect();
+    let own_mre = inside.iter().sum::<f64>() / inside.len() as f64;
+    assert!(
+        own_mre > acc.mre + 0.01,
+        "own {own_mre} recovered {}",
+        acc.mre
+    );
     assert!(
         (acc.fitted_radius / a - 1.0).abs() < 0.04,
         "a {}",

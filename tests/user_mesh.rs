@@ -71,10 +71,10 @@ fn sphere_on_the_stored_tet_mesh() {
     assert_eq!(row["set"], "mesh");
     assert_eq!(row["particles"], 10537);
     let f = |k: &str| row[k].as_f64().unwrap_or(f64::NAN);
-    // Measured: MRE 6.41 %, radius +5.75 %, peak −2.72 %, as tests/unstructured.rs.
-    assert!(f("mre") < 0.070, "MRE {}", f("mre"));
+    // Measured: MRE 6.70 %, radius +5.70 %, peak −5.36 %, as tests/unstructured.rs.
+    assert!(f("mre") < 0.075, "MRE {}", f("mre"));
     assert!(f("radius_error").abs() < 0.065, "a {}", f("radius_error"));
-    assert!(f("peak_error").abs() < 0.04, "peak {}", f("peak_error"));
+    assert!(f("peak_error").abs() < 0.07, "peak {}", f("peak_error"));
     assert!(f("force_balance_error") < 1e-3);
     let case = dir.join("sphere-mesh");
     for file in ["scene.toml", "summary.json", "pressure.svg", "run.pvd"] {
@@ -99,11 +99,12 @@ fn roller_on_the_stored_tet_cylinder() {
     assert_eq!(shape.pressed_along, "-z");
     let row = &report.rows[0];
     assert_eq!(row.particles, 4846);
-    // Measured: MRE 5.12 %, half-width +1.97 %, peak +6.48 %, a/Δ = 4.79.
-    assert!(row.mre < 0.06, "MRE {}", row.mre);
+    // Measured: MRE 3.59 %, half-width +1.64 %, peak −0.48 %, a/Δ = 4.79 (each particle's own
+    // pressure, before it is recovered on the surface: 5.12 %, +1.97 %, +6.48 %).
+    assert!(row.mre < 0.045, "MRE {}", row.mre);
     assert!(row.radius_error.abs() < 0.03, "a {}", row.radius_error);
     let peak = row.peak_error.expect("a Hertz row has a peak");
-    assert!(peak.abs() < 0.09, "peak {peak}");
+    assert!(peak.abs() < 0.05, "peak {peak}");
     assert!(row.force_balance_error < 1e-3);
     assert!((4.6..5.0).contains(&report.contact_spacings));
     assert_eq!(report.warnings.len(), 1);

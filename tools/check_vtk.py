@@ -14,7 +14,8 @@ frame it lists (a .vtm) loads with vtkXMLMultiBlockDataReader with every block n
 (`<body>/particles`, `<body>/surface`, rigid bodies by their name), each frame holds the field
 data `load_factor` (ADR; timesteps in (0, 1]) or `time` (explicit; equal to the timestep), the
 particles hold every documented field, each surface block holds only the nodes its cells use,
-each a particle with the particle's values, and `contact_pressure` is positive only on
+each a particle with the particle's values, `contact_pressure` (recovered) is positive exactly
+where `particle_pressure` (each particle's own) is, and `contact_pressure` is positive only on
 particles that face the rigid plane (outward normal against the plane normal) and whose
 deformed positions (points + displacement) lie on it. A decomposed run's particles (one piece
 per rank, a multi-piece block) are taken in piece order, and its `.pvtu` files must load with
@@ -282,7 +283,8 @@ def check_run(folder, normal, point):
         g = blocks[f"{b}/particles"]
         pd = g.GetPointData()
         require(fields(pd), {"displacement": 3, "velocity": 3, "force": 3, "contact_force": 3,
-                             "contact_pressure": 1, "surface": 1, "normal": 3, "body": 1}, f"{last}: {b}/particles")
+                             "contact_pressure": 1, "particle_pressure": 1, "surface": 1, "normal": 3, "body": 1},
+                f"{last}: {b}/particles")
         if f"{b}/surface" not in blocks:
             raise RuntimeError(f"{last}: no block {b}/surface")
         surface_points += check_surface(b, blocks[f"{b}/surface"], g)
@@ -291,6 +293,10 @@ def check_run(folder, normal, point):
         count += int((sp > 0).sum())
         pos.append(deformed(g))
         pressure.append(vtk_to_numpy(pd.GetArray("contact_pressure")))
+        own = vtk_to_numpy(pd.GetArray("particle_pressure"))
+        # The recovered pressure keeps the particles' own contact: loaded where they are.
+        if not np.array_equal(pressure[-1] > 0, own > 0):
+            raise RuntimeError(f"{last}: {b}: contact_pressure and particle_pressure load different particles")
         nrm.append(vtk_to_numpy(pd.GetArray("normal")))
     pos, pressure, nrm = np.concatenate(pos), np.concatenate(pressure), np.concatenate(nrm)
     loaded = pressure > 0

@@ -7,7 +7,8 @@ Reads the `<body>/particles` blocks of the last frame (frame_*.vtm) listed in RU
 with VTK's own reader (pip install vtk) and prints the mean relative error of METHOD.md section 7: the mean of |p_i - p(r_i)| / p0
 over the surface particles that face the contact (outward normal against the contact force)
 and lie within r_i <= 0.8 a of the contact centre, loaded or not, with r measured in the
-reference configuration. --centre gives the centre in the plane (default 0,0: a model cut by
+reference configuration; the pressure is the frame's `contact_pressure` (recovered on the
+surface) or, with --field particle_pressure, each particle's own. --centre gives the centre in the plane (default 0,0: a model cut by
 symmetry planes through the contact). E* is that of a rigid plane, E / (1 - nu^2).
 """
 import argparse
@@ -25,6 +26,9 @@ def main():
     ap.add_argument("--youngs", type=float, required=True)
     ap.add_argument("--poisson", type=float, required=True)
     ap.add_argument("--centre", default="0,0")
+    ap.add_argument("--field", default="contact_pressure",
+                    help="the pressure to measure: contact_pressure (recovered on the surface, "
+                         "the default) or particle_pressure (each particle's own)")
     args = ap.parse_args()
     try:
         import numpy as np
@@ -57,7 +61,7 @@ def main():
 
     # Points are the reference positions (displacement moves them to the deformed ones).
     x = np.concatenate([vtk_to_numpy(g.GetPoints().GetData()) for g in grids]).astype(float)
-    p = field("contact_pressure")
+    p = field(args.field)
     normal = field("normal")
     surface = field("surface") > 0
     force = field("contact_force").sum(axis=0)

@@ -46,6 +46,38 @@ pub struct SymmetryPlane {
     pub at: f64,
 }
 
+/// A point and its mirror images across the symmetry planes (each subset of them), each with
+/// the bit mask of the planes that made it (0 for the point itself). A point on a plane is its
+/// own image there and is not repeated.
+pub fn mirror_images(p: Vec3, planes: &[SymmetryPlane]) -> Vec<(Vec3, u32)> {
+    let mut out = vec![(p, 0)];
+    for mask in 1u32..(1 << planes.len()) {
+        let mut y = p;
+        let mut moved = true;
+        for (k, pl) in planes.iter().enumerate() {
+            if mask & (1 << k) != 0 {
+                moved &= (y[pl.axis] - pl.at).abs() > 1e-9 * (1.0 + pl.at.abs());
+                y[pl.axis] = 2.0 * pl.at - y[pl.axis];
+            }
+        }
+        if moved {
+            out.push((y, mask));
+        }
+    }
+    out
+}
+
+/// A direction (a normal, a force) as the mirror image of `mask` sees it: each reflection
+/// flips its component along the plane's axis.
+pub fn mirror_direction(mut v: Vec3, mask: u32, planes: &[SymmetryPlane]) -> Vec3 {
+    for (k, pl) in planes.iter().enumerate() {
+        if mask & (1 << k) != 0 {
+            v[pl.axis] = -v[pl.axis];
+        }
+    }
+    v
+}
+
 /// Mirror images ("ghost particles") of a body across its symmetry planes.
 ///
 /// A particle within reach of a plane bonds to the images of its neighbours across it, so
@@ -345,6 +377,35 @@ impl PdCase {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn images_across_symmetry_planes() {
+        let planes = [
+            SymmetryPlane { axis: 0, at: 0.0 },
+            SymmetryPlane { axis: 1, at: 1.0 },
+        ];
+        assert_eq!(mirror_images(Vec3::new(0.5, 0.5, 0.0), &planes).len(), 4);
+        assert!(mirror_images(Vec3::new(0.5, 0.5, 0.0), &planes)
+            .contains(&(Vec3::new(-0.5, 1.5, 0.0), 3)));
+        // A point on both planes is its own image.
+        assert_eq!(mirror_images(Vec3::new(0.0, 1.0, 3.0), &planes).len(), 1);
+        assert_eq!(mirror_images(Vec3::new(0.0, 0.5, 3.0), &planes).len(), 2);
+    }
+
+    #[test]
+    fn a_mirrored_direction_flips_once_per_reflection() {
+        let planes = [
+            SymmetryPlane { axis: 1, at: 0.0 },
+            SymmetryPlane { axis: 1, at: 0.3 },
+        ];
+        let n = Vec3::new(0.1, 0.6, -0.8);
+        // Across one plane the y component flips; across both (a translation by 0.6) it does not.
+        assert_eq!(mirror_direction(n, 1, &planes), Vec3::new(0.1, -0.6, -0.8));
+        assert_eq!(mirror_direction(n, 3, &planes), n);
+        let images = mirror_images(Vec3::new(0.0, 0.1, 0.0), &planes);
+        assert!(images.contains(&(Vec3::new(0.0, 0.7, 0.0), 3)));
+    }
+
     use crate::case::generators;
 
     /// A flat-faced hex block through the whole pipeline: lumped volumes, completed at the

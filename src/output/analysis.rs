@@ -10,33 +10,51 @@
 //! surface particles that face the master and lie within `0.8 a` of the contact centre, whether
 //! they carry force or not; (2) the radius (or half-width) of a least-squares fit of the
 //! reference profile, relative to the theory; (3) force balance `|Σ F_contact − P| / P`.
-//! Pressures are per undeformed tributary area ([`contact_pressure`], which the frames write
-//! too).
+//! Pressures are per undeformed pressure area, recovered on the surface ([`contact_pressure`],
+//! which the frames write too; each particle's own value is [`particle_pressure`]).
 
-use crate::body::Body;
+use crate::body::{Body, PdBody};
 use crate::math::Vec3;
 use crate::model::Model;
+use crate::output::recovery::SurfaceLoads;
 
-/// Contact pressure per particle: normal contact force over the particle's undeformed pressure
-/// area (METHOD.md §5; the tributary area redistributed by the boundary layer's volume, see
-/// [`pressure_areas`](crate::case::segments::pressure_areas)); `Σ p_i A*_i` is the contact
-/// force exactly. The penalty force acts along the master segment's normal, so its magnitude
-/// is the normal contact force; frictionless contact has no other component.
+/// Contact pressure of body `body`'s particles, recovered on its surface
+/// ([`recovery`](crate::output::recovery): a least-squares plane through the loaded
+/// particles' own pressures within 3 surface spacings, less its bias from the profile's
+/// curvature, scaled per contact patch so that `Σ p_i A*_i` is the contact force exactly). This is the `contact_pressure` of the frames.
 pub fn contact_pressure(model: &Model, body: usize) -> Vec<f64> {
-    let Some(pd) = model.bodies[body].as_pd() else {
-        return Vec::new();
-    };
-    let area = &pd.case.segments.pressure_area;
-    (0..pd.len())
-        .map(|i| {
-            let f = pd.contact_force[i].norm();
-            if area[i] > 0.0 && f > 0.0 {
-                f / area[i]
-            } else {
-                0.0
-            }
-        })
-        .collect()
+    match model.bodies[body].as_pd() {
+        Some(pd) => surface_loads(pd, &normal_forces(pd), |s| s.recovered_pressure()),
+        None => Vec::new(),
+    }
+}
+
+/// Each particle's own pressure: normal contact force over its undeformed pressure area
+/// (METHOD.md §5; the tributary area redistributed by the boundary layer's volume, see
+/// [`pressure_areas`](crate::case::segments::pressure_areas)). The frames' `particle_pressure`.
+pub fn particle_pressure(model: &Model, body: usize) -> Vec<f64> {
+    match model.bodies[body].as_pd() {
+        Some(pd) => surface_loads(pd, &normal_forces(pd), |s| s.particle_pressure()),
+        None => Vec::new(),
+    }
+}
+
+/// The magnitude of each particle's contact force. The penalty force acts along the master
+/// segment's normal, so this is the normal contact force; frictionless contact has no other.
+pub fn normal_forces(pd: &PdBody) -> Vec<f64> {
+    pd.contact_force.iter().map(|f| f.norm()).collect()
+}
+
+/// Runs `query` on body `pd`'s surface with the normal contact forces `force` (one per
+/// particle; a decomposed run passes the values its owners sent).
+pub fn surface_loads<T>(pd: &PdBody, force: &[f64], query: impl FnOnce(&SurfaceLoads) -> T) -> T {
+    query(&SurfaceLoads {
+        position: &pd.case.particles.position,
+        normal: &pd.case.surface.normal,
+        area: &pd.case.segments.pressure_area,
+        force,
+        planes: &pd.case.ghosts.planes,
+    })
 }
 
 /// Hertz sphere on a rigid plane: contact radius and peak pressure.

@@ -29,7 +29,7 @@ use crate::body::Body;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::model::Model;
-use crate::output::analysis::contact_pressure;
+use crate::output::analysis::{normal_forces, surface_loads};
 use std::io::Write;
 
 use crate::output::vtk::{
@@ -253,7 +253,27 @@ impl FrameWriter {
                 Body::Deformable(pd) => {
                     let n = pd.len();
                     let reference = &pd.case.particles.position;
-                    let pressure = contact_pressure(model, k);
+                    // The contact pressure, recovered over the surface, needs the contact forces
+                    // of every boundary particle (in a decomposed run, sent by their owners).
+                    let forces = match &model.domain {
+                        Some(d) => {
+                            let boundary: Vec<usize> = (0..n)
+                                .filter(|&i| pd.case.segments.pressure_area[i] > 0.0)
+                                .collect();
+                            let got = d.collect(k, &boundary, 1, |i, out| {
+                                out.push(pd.contact_force[i].norm())
+                            });
+                            let mut f = vec![0.0; n];
+                            for (&i, v) in boundary.iter().zip(got) {
+                                f[i] = v;
+                            }
+                            f
+                        }
+                        None => normal_forces(pd),
+                    };
+                    let (pressure, own_pressure) = surface_loads(pd, &forces, |s| {
+                        (s.recovered_pressure(), s.particle_pressure())
+                    });
                     // This process's particles (all of them in one process).
                     let own = model
                         .domain
@@ -264,7 +284,7 @@ impl FrameWriter {
                     let here = |i: usize| {
                         (
                             [pd.u[i], pd.v[i], pd.force[i], pd.contact_force[i]],
-                            pressure[i],
+                            [pressure[i], own_pressure[i]],
                         )
                     };
                     let fields = point_fields(model, k, &at, |m| here(at[m]));
@@ -304,15 +324,15 @@ impl FrameWriter {
                         .collect();
                     let surface_fields = match &model.domain {
                         Some(d) => {
-                            let got = d.collect(k, &nodes, 13, |i, out| {
+                            let got = d.collect(k, &nodes, 14, |i, out| {
                                 let (v, p) = here(i);
                                 out.extend(v.iter().flat_map(|v| v.iter()));
-                                out.push(p);
+                                out.extend(p);
                             });
                             point_fields(model, k, &nodes, |m| {
-                                let r = &got[13 * m..13 * m + 13];
+                                let r = &got[14 * m..14 * m + 14];
                                 let v3 = |c: usize| Vec3::new(r[3 * c], r[3 * c + 1], r[3 * c + 2]);
-                                ([v3(0), v3(1), v3(2), v3(3)], r[12])
+                                ([v3(0), v3(1), v3(2), v3(3)], [r[12], r[13]])
                             })
                         }
                         None => point_fields(model, k, &nodes, |m| here(nodes[m])),
@@ -405,16 +425,16 @@ impl FrameWriter {
 }
 
 /// The point fields of body `k` at its particles `at`: the state of `at[m]` from
-/// `state(m)` (`u`, `v`, force, contact force, and the contact pressure), the rest from the
-/// case.
+/// `state(m)` (`u`, `v`, force, contact force; the recovered and the particle's own contact
+/// pressure), the rest from the case.
 fn point_fields(
     model: &Model,
     k: usize,
     at: &[usize],
-    state: impl Fn(usize) -> ([Vec3; 4], f64),
+    state: impl Fn(usize) -> ([Vec3; 4], [f64; 2]),
 ) -> Vec<Field> {
     let pd = model.bodies[k].as_pd().expect("a deformable body");
-    let states: Vec<([Vec3; 4], f64)> = (0..at.len()).map(state).collect();
+    let states: Vec<([Vec3; 4], [f64; 2])> = (0..at.len()).map(state).collect();
     let column = |c: usize| states.iter().map(|s| s.0[c]).collect::<Vec<Vec3>>();
     let case = &pd.case;
     vec![
@@ -422,7 +442,8 @@ fn point_fields(
         Field::vector("velocity", column(1)),
         Field::vector("force", column(2)),
         Field::vector("contact_force", column(3)),
-        Field::scalar("contact_pressure", states.iter().map(|s| s.1).collect()),
+        Field::scalar("contact_pressure", states.iter().map(|s| s.1[0]).collect()),
+        Field::scalar("particle_pressure", states.iter().map(|s| s.1[1]).collect()),
         Field::int(
             "surface",
             at.iter()

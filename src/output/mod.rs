@@ -4,10 +4,12 @@
 //! |---|---|
 //! | VTK XML files (`.vtu`, `.vtm`, `.pvd`), written atomically | [`vtk`] |
 //! | the frames of a run, `run.pvd`, `view.py`, progress on stderr | [`frames`] |
-//! | contact pressure, contact patch, Hertz and Sadowsky references | [`analysis`] |
+//! | contact patch, Hertz and Sadowsky references | [`analysis`] |
+//! | contact pressure recovered on the slave surface | [`recovery`] |
 
 pub mod analysis;
 pub mod frames;
+pub mod recovery;
 pub mod vtk;
 
 pub use frames::{FrameWriter, RunMonitor, PVD_NAME};

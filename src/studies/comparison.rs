@@ -38,6 +38,8 @@ pub struct ValidationRow {
     pub theory_radius: f64,
     pub theory_peak_pressure: f64,
     pub fitted_radius: f64,
+    /// `p0` of the least-squares fit of the reference profile (Hertz rows).
+    pub fitted_peak_pressure: f64,
     pub peak_pressure: f64,
     pub samples: usize,
     /// Peak pressure against the theory's `p0`, relative (Hertz rows; none for the punch,
@@ -130,6 +132,7 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
             theory_radius: *a,
             theory_peak_pressure: *p0,
             fitted_radius: acc.fitted_radius,
+            fitted_peak_pressure: acc.fitted_peak,
             peak_pressure: patch.peak,
             samples: acc.samples,
             peak_error: match case.problem {

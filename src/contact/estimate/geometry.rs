@@ -4,8 +4,8 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::{ContactSurface, CANDIDATES, FIT_POINTS};
+use crate::case::mirror_images;
 use crate::case::segments::MasterSegment;
-use crate::case::SymmetryPlane;
 use crate::math::Vec3;
 
 /// The first contact point of `slave` moved along `approach` onto `master`, and the contact
@@ -104,7 +104,7 @@ pub(super) fn fit_curvature(
 ) -> Option<([f64; 3], f64)> {
     let mut samples: Vec<[f64; 3]> = Vec::new();
     for &n in nodes {
-        for y in images(s.points[n as usize], s.planes) {
+        for (y, _) in mirror_images(s.points[n as usize], s.planes) {
             let r = y - q;
             samples.push([r.dot(&e1), r.dot(&e2), sign * r.dot(&d)]);
         }
@@ -181,25 +181,6 @@ pub(super) fn principal(h: [f64; 3], e1: Vec3, e2: Vec3) -> (f64, f64, Vec3) {
         e1
     };
     (k1, k2, dir)
-}
-
-/// A point and its mirror images across the symmetry planes (each subset of them).
-pub(super) fn images(p: Vec3, planes: &[SymmetryPlane]) -> Vec<Vec3> {
-    let mut out = vec![p];
-    for mask in 1u32..(1 << planes.len()) {
-        let mut y = p;
-        let mut moved = true;
-        for (k, pl) in planes.iter().enumerate() {
-            if mask & (1 << k) != 0 {
-                moved &= (y[pl.axis] - pl.at).abs() > 1e-9 * (1.0 + pl.at.abs());
-                y[pl.axis] = 2.0 * pl.at - y[pl.axis];
-            }
-        }
-        if moved {
-            out.push(y);
-        }
-    }
-    out
 }
 
 /// Diagonal of the bounding box of the nodes.
@@ -285,19 +266,6 @@ mod tests {
         // Points on a line cannot give a surface.
         let line: Vec<[f64; 3]> = (0..10).map(|i| [i as f64, 0.0, 0.0]).collect();
         assert!(fit_paraboloid(&line, 1.0).is_none());
-    }
-
-    #[test]
-    fn images_across_symmetry_planes() {
-        let planes = [
-            SymmetryPlane { axis: 0, at: 0.0 },
-            SymmetryPlane { axis: 1, at: 1.0 },
-        ];
-        assert_eq!(images(Vec3::new(0.5, 0.5, 0.0), &planes).len(), 4);
-        assert!(images(Vec3::new(0.5, 0.5, 0.0), &planes).contains(&Vec3::new(-0.5, 1.5, 0.0)));
-        // A point on both planes is its own image.
-        assert_eq!(images(Vec3::new(0.0, 1.0, 3.0), &planes).len(), 1);
-        assert_eq!(images(Vec3::new(0.0, 0.5, 3.0), &planes).len(), 2);
     }
 
     #[test]
