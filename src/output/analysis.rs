@@ -21,7 +21,8 @@ use crate::output::recovery::SurfaceLoads;
 /// Contact pressure of body `body`'s particles, recovered on its surface
 /// ([`recovery`](crate::output::recovery): a least-squares plane through the loaded
 /// particles' own pressures within 3 surface spacings, less its bias from the profile's
-/// curvature, scaled per contact patch so that `Σ p_i A*_i` is the contact force exactly). This is the `contact_pressure` of the frames.
+/// curvature, scaled per contact patch so that `Σ p_i A*_i` is the contact force exactly).
+/// This is the `contact_pressure` of the frames.
 pub fn contact_pressure(model: &Model, body: usize) -> Vec<f64> {
     match model.bodies[body].as_pd() {
         Some(pd) => surface_loads(pd, &normal_forces(pd), |s| s.recovered_pressure()),

@@ -150,7 +150,8 @@ impl SurfaceLoads<'_> {
                     });
                     c[0] - bias.clamp(-MAX_CORRECTION * c[0].abs(), MAX_CORRECTION * c[0].abs())
                 });
-                // A fitted value at or below zero (a loaded particle at a steep edge) keeps its own.
+                // A fitted value at or below zero (a loaded particle at a steep edge) keeps its
+                // own.
                 (value.filter(|&v| v > 0.0).unwrap_or(own[i]), near)
             })
             .collect();
