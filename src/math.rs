@@ -27,3 +27,14 @@ pub fn unit(v: Vec3) -> Vec3 {
     let m = v.amax();
     (v / m).normalize()
 }
+
+/// Two unit vectors completing the unit vector `d` to an orthonormal frame `(e1, e2, d)`.
+pub fn tangent_frame(d: Vec3) -> (Vec3, Vec3) {
+    let pick = if d.x.abs() < 0.9 {
+        Vec3::x()
+    } else {
+        Vec3::y()
+    };
+    let e1 = d.cross(&pick).normalize();
+    (e1, d.cross(&e1))
+}

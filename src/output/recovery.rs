@@ -27,12 +27,12 @@
 //! keep their own pressure. Unloaded particles stay at zero: the recovery neither widens nor
 //! narrows the contact.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 use rayon::prelude::*;
 
 use crate::case::neighbours::CellGrid;
 use crate::case::{mirror_direction, mirror_images, SymmetryPlane};
-use crate::math::Vec3;
+use crate::math::{tangent_frame, Vec3};
 
 /// Radius of the plane fit, in surface spacings (the square root of the median pressure area
 /// of the loaded particles); ~30 samples. Measured on gmsh-default quarter caps of tets split
@@ -109,7 +109,7 @@ impl SurfaceLoads<'_> {
                 if !(n.norm() > 0.5) {
                     return (own[i], Vec::new());
                 }
-                let (t1, t2) = tangents(n);
+                let (t1, t2) = tangent_frame(n);
                 // Tangent coordinates are scaled by `reach`, for the conditioning of the fits.
                 let mut plane = Fit::new(3);
                 let mut quadric = Fit::new(6);
@@ -141,14 +141,16 @@ impl SurfaceLoads<'_> {
                 });
                 near.sort_unstable();
                 near.dedup();
-                let value = plane.solve().map(|c| {
+                let value = plane.factor().map(|chol| {
+                    let c0 = chol.solve(&plane.rhs)[0];
                     // The plane's bias from the field's curvature, taken off with the
                     // curvature of the wider quadric fit (where one fits).
-                    let bias = quadric.solve().map_or(0.0, |q| {
+                    let bias = quadric.factor().map_or(0.0, |q| {
+                        let q = q.solve(&quadric.rhs);
                         let curved = |u: f64, v: f64| q[3] * u * u + q[4] * u * v + q[5] * v * v;
-                        plane.value_of(curved).unwrap_or(0.0)
+                        chol.solve(&plane.moments_of(curved))[0]
                     });
-                    c[0] - bias.clamp(-MAX_CORRECTION * c[0].abs(), MAX_CORRECTION * c[0].abs())
+                    c0 - bias.clamp(-MAX_CORRECTION * c0.abs(), MAX_CORRECTION * c0.abs())
                 });
                 // A fitted value at or below zero (a loaded particle at a steep edge) keeps its
                 // own.
@@ -195,17 +197,6 @@ impl SurfaceLoads<'_> {
     }
 }
 
-/// Two unit vectors spanning the plane normal to `n`.
-fn tangents(n: Vec3) -> (Vec3, Vec3) {
-    let a = if n.x.abs() < 0.9 {
-        Vec3::x()
-    } else {
-        Vec3::y()
-    };
-    let t1 = n.cross(&a).normalize();
-    (t1, n.cross(&t1))
-}
-
 /// A weighted least-squares fit: the normal matrix and right-hand side of its basis.
 struct Fit {
     m: DMatrix<f64>,
@@ -232,9 +223,9 @@ impl Fit {
         self.count += 1;
     }
 
-    /// The coefficients, or `None` where the samples are fewer than twice the coefficients
-    /// or leave the normal matrix near singular (samples along a line).
-    fn solve(&self) -> Option<DVector<f64>> {
+    /// The factored normal matrix, or `None` where the samples are fewer than twice the
+    /// coefficients or leave it near singular (samples along a line).
+    fn factor(&self) -> Option<Cholesky<f64, Dyn>> {
         if self.count < 2 * self.rhs.len() {
             return None;
         }
@@ -242,17 +233,17 @@ impl Fit {
         if !(eig.min() > CONDITION * eig.max()) {
             return None;
         }
-        Some(self.m.clone().cholesky()?.solve(&self.rhs))
+        self.m.clone().cholesky()
     }
 
-    /// A plane's constant term fitted, with the same weights, to the values `f(u, v)` at its
-    /// samples instead of the pressures.
-    fn value_of(&self, f: impl Fn(f64, f64) -> f64) -> Option<f64> {
+    /// A plane's right-hand side for the values `f(u, v)` at its samples instead of the
+    /// pressures, with the same weights.
+    fn moments_of(&self, f: impl Fn(f64, f64) -> f64) -> DVector<f64> {
         let mut rhs = DVector::zeros(3);
         for &(u, v, w) in &self.samples {
             rhs += DVector::from_column_slice(&[1.0, u, v]) * (w * f(u, v));
         }
-        Some(self.m.clone().cholesky()?.solve(&rhs)[0])
+        rhs
     }
 }
 
@@ -292,21 +283,22 @@ mod tests {
         (x, area, force, p)
     }
 
+    /// The recovered `p` equals `field` within `tol` (relative) where |x|, |y| < `half`.
+    fn assert_field(x: &[Vec3], p: &[f64], field: impl Fn(f64, f64) -> f64, half: f64, tol: f64) {
+        for (i, y) in x.iter().enumerate() {
+            if y.x.abs() < half && y.y.abs() < half {
+                let want = field(y.x, y.y);
+                assert!((p[i] / want - 1.0).abs() < tol, "{} vs {want}", p[i]);
+            }
+        }
+    }
+
     #[test]
     fn a_linear_field_is_recovered_and_the_force_kept() {
         let f = |u: f64, v: f64| 1e6 * (2.0 + 0.5 * u - 0.3 * v);
         let (x, area, force, p) = patch(f, 0.0);
         // Interior particles (the fit's patch fully inside) get the field exactly.
-        for (i, y) in x.iter().enumerate() {
-            if y.x.abs() < 0.7 && y.y.abs() < 0.7 {
-                assert!(
-                    (p[i] / f(y.x, y.y) - 1.0).abs() < 1e-3,
-                    "{} vs {}",
-                    p[i],
-                    f(y.x, y.y)
-                );
-            }
-        }
+        assert_field(&x, &p, f, 0.7, 1e-3);
         let total: f64 = force.iter().sum();
         let integral: f64 = p.iter().zip(&area).map(|(p, a)| p * a).sum();
         assert!((integral / total - 1.0).abs() < 1e-12);
@@ -317,16 +309,7 @@ mod tests {
         // A crest like a contact's: the plane alone would lower it by its curvature.
         let f = |u: f64, v: f64| 1e6 * (2.0 - u * u - 0.5 * v * v + 0.3 * u * v);
         let (x, _, _, p) = patch(f, 0.0);
-        for (i, y) in x.iter().enumerate() {
-            if y.x.abs() < 0.4 && y.y.abs() < 0.4 {
-                assert!(
-                    (p[i] / f(y.x, y.y) - 1.0).abs() < 5e-3,
-                    "{} vs {}",
-                    p[i],
-                    f(y.x, y.y)
-                );
-            }
-        }
+        assert_field(&x, &p, f, 0.4, 5e-3);
     }
 
     #[test]

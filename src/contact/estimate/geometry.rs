@@ -78,17 +78,6 @@ pub(super) fn ray_triangle(o: Vec3, dir: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Opt
     (u >= -eps && v >= -eps && u + v <= 1.0 + eps).then(|| e2.dot(&qv) / det)
 }
 
-/// Two unit vectors completing `d` to an orthonormal frame.
-pub(super) fn tangent_frame(d: Vec3) -> (Vec3, Vec3) {
-    let pick = if d.x.abs() < 0.9 {
-        Vec3::x()
-    } else {
-        Vec3::y()
-    };
-    let e1 = d.cross(&pick).normalize();
-    (e1, d.cross(&e1))
-}
-
 /// Curvature tensor `[H_uu, H_uv, H_vv]` (1/m, positive where the surface curves away from the
 /// other body) of a body's surface around `q`, and the fit window's radius. `sign` is −1 for
 /// the slave (the surface lies behind `q` along `d`), +1 for the master. `None` when fewer than
@@ -225,6 +214,7 @@ pub(super) fn line_length(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::tangent_frame;
 
     /// Heights of points of a surface `h(u, v)` on a ring grid out to `reach`.
     fn grid(reach: f64, h: impl Fn(f64, f64) -> f64) -> Vec<[f64; 3]> {

@@ -56,8 +56,8 @@ use serde::Serialize;
 use crate::body::{Body, RigidBody};
 use crate::case::segments::MasterSegment;
 use crate::case::{PdCase, SymmetryPlane};
-use crate::math::Vec3;
-use geometry::{extent, first_contact, fit_curvature, line_length, principal, tangent_frame};
+use crate::math::{tangent_frame, Vec3};
+use geometry::{extent, first_contact, fit_curvature, line_length, principal};
 
 /// `a/Δ` from which the pressure is at Hertz level (MRE 1 % on the Hertz sphere,
 /// docs/VALIDATION.md, "Spacing").
