@@ -3,6 +3,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod common;
+
 use pdcontact::run::RunOptions;
 use pdcontact::studies::demo::run_demo;
 
@@ -13,26 +15,9 @@ fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
-/// Runs tools/check_vtk.py; `None` when Python's vtk is not installed (CI installs it).
-fn check_vtk(args: &[&str]) -> Option<serde_json::Value> {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/check_vtk.py");
-    let has_vtk = Command::new("python3")
-        .args(["-c", "import vtk, numpy"])
-        .status()
-        .map(|s| s.success())
-        .unwrap_or(false);
-    if !has_vtk {
-        eprintln!("python3 with vtk not found: VTK reader check skipped (pip install vtk)");
-        return None;
-    }
-    let out = Command::new("python3")
-        .arg(script)
-        .args(args)
-        .output()
-        .expect("python runs");
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON report");
-    assert!(out.status.success(), "VTK check failed: {report}");
-    Some(report)
+/// tools/check_vtk.py's JSON report; `None` when Python's vtk is not installed.
+fn vtk_report(args: &[&str]) -> Option<serde_json::Value> {
+    common::check_vtk(args).map(|s| serde_json::from_str(&s).expect("JSON report"))
 }
 
 #[test]
@@ -67,7 +52,7 @@ fn demo_converges_balances_and_loads_in_vtk() {
         report.to_text()
     );
     assert!(dir.join("scene.toml").exists() && dir.join("summary.json").exists());
-    if let Some(r) = check_vtk(&[
+    if let Some(r) = vtk_report(&[
         "run",
         dir.to_str().expect("utf-8"),
         "--plane-normal",
@@ -108,7 +93,7 @@ fn convert_output_loads_in_vtk() {
         "{}",
         String::from_utf8_lossy(&status.stderr)
     );
-    if let Some(r) = check_vtk(&["case", dir.to_str().expect("utf-8")]) {
+    if let Some(r) = vtk_report(&["case", dir.to_str().expect("utf-8")]) {
         assert_eq!(r["particles"], r["vertex_cells"]);
         assert!(r["segments"].as_u64().expect("count") > 100);
     }

@@ -1,8 +1,11 @@
 //! The frames a run leaves for ParaView, read back as XML: `run.pvd` timesteps, the named
 //! blocks of each `frame_NNNNNN.vtm`, and the field data of each dataset.
 
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+mod common;
 
 fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("pdcontact-frames-{name}-{}", std::process::id()));
@@ -114,31 +117,6 @@ fn frame(out: &Path, vtm: &str) -> (Vec<String>, Vec<String>, Vec<String>) {
     )
 }
 
-/// Runs tools/check_vtk.py on a run folder when Python's vtk is there.
-fn check_vtk(out: &Path) {
-    let has_vtk = Command::new("python3")
-        .args(["-c", "import vtk, numpy"])
-        .status()
-        .is_ok_and(|s| s.success());
-    if !has_vtk {
-        eprintln!("python3 with vtk not found: VTK reader check skipped");
-        return;
-    }
-    let check = Command::new("python3")
-        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/check_vtk.py"))
-        .args(["run"])
-        .arg(out)
-        .args(["--plane-normal", "0,0,1", "--plane-point", "0,0,-0.01"])
-        .output()
-        .expect("python3 runs");
-    assert!(
-        check.status.success(),
-        "{}{}",
-        String::from_utf8_lossy(&check.stdout),
-        String::from_utf8_lossy(&check.stderr)
-    );
-}
-
 /// ADR in three load increments, frames only at their ends: the timesteps are the load
 /// factors 1/3, 2/3, 1, and each frame's `load_factor` says the same.
 #[test]
@@ -166,7 +144,10 @@ fn adr_frames_at_the_load_factors_with_named_blocks() {
             assert!((lf - factor).abs() < 1e-12, "{f}: {lf}");
         }
     }
-    check_vtk(&out);
+    let plane = ["--plane-normal", "0,0,1", "--plane-point", "0,0,-0.01"];
+    let mut args = vec![OsStr::new("run"), out.as_os_str()];
+    args.extend(plane.map(OsStr::new));
+    common::check_vtk(&args);
     view_focus(&out);
     let _ = std::fs::remove_dir_all(out.parent().expect("dir"));
 }

@@ -9,6 +9,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod common;
+
 fn exe() -> &'static str {
     env!("CARGO_BIN_EXE_pdcontact")
 }
@@ -78,29 +80,6 @@ fn assert_identical(a: &serde_json::Value, b: &serde_json::Value) {
     assert_eq!(a["solver"]["iterations"], b["solver"]["iterations"]);
 }
 
-/// tools/check_vtk.py with `args`, when Python's vtk is there.
-fn check_vtk(args: &[&std::ffi::OsStr]) {
-    let has_vtk = Command::new("python3")
-        .args(["-c", "import vtk, numpy"])
-        .status()
-        .is_ok_and(|s| s.success());
-    if !has_vtk {
-        eprintln!("python3 with vtk not found: VTK reader check skipped");
-        return;
-    }
-    let check = Command::new("python3")
-        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/check_vtk.py"))
-        .args(args)
-        .output()
-        .expect("python3 runs");
-    assert!(
-        check.status.success(),
-        "{}{}",
-        String::from_utf8_lossy(&check.stdout),
-        String::from_utf8_lossy(&check.stderr)
-    );
-}
-
 /// The demo (a sphere on a rigid plane, quarter model with symmetry planes): the ranks hold
 /// ghosts across the cut and mirror images of their own particles.
 #[test]
@@ -120,8 +99,8 @@ fn demo_on_two_ranks() {
     let pieces = std::fs::read_to_string(vtm).expect("frame");
     assert!(pieces.contains("ball_particles_1.vtu"), "{pieces}");
     let (one, many) = (dir.join("one"), dir.join("many"));
-    check_vtk(&["same".as_ref(), one.as_os_str(), many.as_os_str()]);
-    check_vtk(&[
+    common::check_vtk(&["same".as_ref(), one.as_os_str(), many.as_os_str()]);
+    common::check_vtk(&[
         "run".as_ref(),
         many.as_os_str(),
         "--plane-normal".as_ref(),
