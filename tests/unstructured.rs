@@ -39,22 +39,35 @@ fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
+/// Runs `scene` (TOML, written next to nothing: mesh paths are absolute) and returns the model.
+fn run_text(scene: &str, tag: &str) -> Model {
+    let dir = temp_dir(tag);
+    let scene_path = dir.join("scene.toml");
+    std::fs::write(&scene_path, scene).expect("scene written");
+    let scene = Scene::load(&scene_path).expect("scene loads");
+    let options = RunOptions {
+        output: None,
+        quiet: true,
+        stop: None,
+        comm: None,
+    };
+    let (model, summary) = run_scene(&scene, &options).expect("runs");
+    assert!(summary.converged);
+    assert_eq!(summary.missed_contacts, 0);
+    let _ = std::fs::remove_dir_all(&dir);
+    model
+}
+
 /// Runs the whole-sphere Hertz scene on `mesh` and returns the model, Hertz's a and p0, and the
 /// figures of METHOD.md §7 (every facing particle within 0.8a).
 fn hertz_run(mesh: &Path, tag: &str) -> (Model, f64, f64, Accuracy, f64) {
-    let dir = temp_dir(tag);
-    let scene_path = dir.join("scene.toml");
-    std::fs::write(
-        &scene_path,
-        format!(
+    let model = run_text(
+        &format!(
             r#"
 [solver]
 kind = "adr"
 tolerance = 1e-4
 max_iterations = 50000
-[output]
-folder = "."
-every = 100000
 [[body]]
 name = "ball"
 mesh = "{}"
@@ -77,24 +90,91 @@ radius = 100.0
 "#,
             mesh.display()
         ),
-    )
-    .expect("scene written");
-    let scene = Scene::load(&scene_path).expect("scene loads");
-    let options = RunOptions {
-        output: None,
-        quiet: true,
-        stop: None,
-        comm: None,
-    };
-    let (model, summary) = run_scene(&scene, &options).expect("runs");
-    assert!(summary.converged);
-    assert_eq!(summary.missed_contacts, 0);
+        tag,
+    );
     let (a, p0) = hertz_sphere(LOAD, 1.0, e_star_rigid(YOUNGS, POISSON));
     let patch = contact_patch(&model, 0, None).expect("in contact");
     let acc = elliptic_accuracy(&patch, a, p0);
     let peak = patch.peak;
-    let _ = std::fs::remove_dir_all(&dir);
     (model, a, p0, acc, peak)
+}
+
+/// The MRE of each particle's own pressure (METHOD.md §7's set: facing, within 0.8a).
+fn own_pressure_mre(model: &Model, a: f64, p0: f64) -> f64 {
+    let own = particle_pressure(model, 0);
+    let patch = contact_patch(model, 0, None).expect("in contact");
+    let inside: Vec<f64> = patch
+        .points
+        .iter()
+        .filter(|(_, r, _)| *r <= 0.8 * a)
+        .map(|&(i, r, _)| (own[i as usize] - p0 * (1.0 - (r / a).powi(2)).sqrt()).abs() / p0)
+        .collect();
+    inside.iter().sum::<f64>() / inside.len() as f64
+}
+
+/// Hertz where its theory holds (a/R = 0.15) on the demo's body meshed by gmsh's defaults:
+/// meshes/sphere_cap_quarter_tet4.geo, tet4 of h = 0.02 m (a/h = 7.5, 2,744 particles), the
+/// scene of `pdcontact demo` with that mesh (docs/VALIDATION.md, "Unstructured quarter caps").
+#[test]
+fn hertz_sphere_cap_on_a_gmsh_default_tet_mesh() {
+    let load = 4.8e6;
+    let model = run_text(
+        &format!(
+            r#"
+[solver]
+kind = "adr"
+tolerance = 1e-4
+max_iterations = 50000
+[[body]]
+name = "cap"
+mesh = "{}"
+kinematics = "small"
+[body.material]
+youngs_modulus = {YOUNGS:e}
+poisson_ratio = {POISSON}
+density = 1000.0
+[[body]]
+name = "plane"
+kind = "rigid"
+generator = {{ shape = "plane", point = [0.0, 0.0, -1.0], normal = [0.0, 0.0, 1.0], size = 3.0 }}
+[[load]]
+body = "cap"
+set = "top"
+force = [0.0, 0.0, -{:e}]
+[[contact]]
+slave = "cap"
+master = "plane"
+radius = 100.0
+[[symmetry]]
+body = "cap"
+axis = "x"
+[[symmetry]]
+body = "cap"
+axis = "y"
+"#,
+            mesh_path("sphere_cap_quarter_tet4.msh").display(),
+            load / 4.0
+        ),
+        "cap-tet4",
+    );
+    let (a, p0) = hertz_sphere(load, 1.0, e_star_rigid(YOUNGS, POISSON));
+    let patch = contact_patch(&model, 0, None).expect("in contact");
+    let acc = elliptic_accuracy(&patch, a, p0);
+    // Measured: MRE 1.88 %, radius +3.18 %, peak +1.66 % (own pressures: 4.77 %, +4.27 %,
+    // +11.6 %). The issue's aims: MRE 3 %, radius 3 % (not yet met at a/h = 7.5), peak 10 %.
+    assert!(acc.mre < 0.03, "MRE {}", acc.mre);
+    assert!(
+        (acc.fitted_radius / a - 1.0).abs() < 0.04,
+        "a {}",
+        acc.fitted_radius / a
+    );
+    assert!(
+        (patch.peak / p0 - 1.0).abs() < 0.05,
+        "peak {}",
+        patch.peak / p0
+    );
+    let own = own_pressure_mre(&model, a, p0);
+    assert!(own > acc.mre + 0.02, "own {own} recovered {}", acc.mre);
 }
 
 #[test]
@@ -185,15 +265,7 @@ fn hertz_sphere_on_tets_split_into_hexes() {
     // 7.53 %, +2.69 %, +0.82 % (23.9 % while interior particles facing the plane counted as
     // surface): the recovery on the surface takes out the scatter of the irregular cloud.
     assert!(acc.mre < 0.07, "MRE {}", acc.mre);
-    let own = particle_pressure(&model, 0);
-    let patch = contact_patch(&model, 0, None).expect("in contact");
-    let inside: Vec<f64> = patch
-        .points
-        .iter()
-        .filter(|(_, r, _)| *r <= 0.8 * a)
-        .map(|&(i, r, _)| (own[i as usize] - p0 * (1.0 - (r / a).powi(2)).sqrt()).abs() / p0)
-        .collect();
-    let own_mre = inside.iter().sum::<f64>() / inside.len() as f64;
+    let own_mre = own_pressure_mre(&model, a, p0);
     assert!(
         own_mre > acc.mre + 0.01,
         "own {own_mre} recovered {}",

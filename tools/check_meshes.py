@@ -191,7 +191,18 @@ def analyse(path):
         else:
             tol = 1e-9 * np.linalg.norm(hi - lo)
             on = (np.abs(q - lo) < tol).any(axis=1) | (np.abs(q - hi) < tol).any(axis=1)
-        off_boundary += int((~on.reshape(len(bf), -1)).all(axis=1).sum())
+        off = (~on.reshape(len(bf), -1)).all(axis=1)
+        if not (sphere or cylinder):
+            # a shell sector (the quarter caps): its faces lie on spheres about the origin or
+            # on planes through it
+            qf = p[bf]
+            norms = np.linalg.norm(qf, axis=2)
+            on_sphere = np.ptp(norms, axis=1) < 1e-6 * norms.max(axis=1)
+            n = np.cross(qf[:, 1] - qf[:, 0], qf[:, 2] - qf[:, 0])
+            n /= np.linalg.norm(n, axis=1, keepdims=True)
+            through_origin = np.abs((n * qf[:, 0]).sum(axis=1)) < tol
+            off &= ~(on_sphere | through_origin)
+        off_boundary += int(off.sum())
     out["free_faces"], out["over_faces"], out["free_inside"] = free, over, off_boundary
     key = np.round(p[used] / (1e-9 * max(1.0, np.abs(p).max())))
     out["duplicates"] = len(used) - len(np.unique(key, axis=0))

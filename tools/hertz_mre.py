@@ -7,7 +7,9 @@ Reads the `<body>/particles` blocks of the last frame (frame_*.vtm) listed in RU
 with VTK's own reader (pip install vtk) and prints the mean relative error of METHOD.md section 7: the mean of |p_i - p(r_i)| / p0
 over the surface particles that face the contact (outward normal against the contact force)
 and lie within r_i <= 0.8 a of the contact centre, loaded or not, with r measured in the
-reference configuration; the pressure is the frame's `contact_pressure` (recovered on the
+reference configuration; then the radius of the least-squares fit of
+p0' sqrt(1 - (r/A)^2) to the facing particles (A and p0' free, as `pdcontact validate` fits it)
+and the peak. The pressure is the frame's `contact_pressure` (recovered on the
 surface) or, with --field particle_pressure, each particle's own. --centre gives the centre in the plane (default 0,0: a model cut by
 symmetry planes through the contact). E* is that of a rigid plane, E / (1 - nu^2).
 """
@@ -16,6 +18,33 @@ import math
 import re
 import sys
 from pathlib import Path
+
+
+def fit_elliptic(np, r, p):
+    """(A, p0') of the least-squares fit of p0' sqrt(1 - (r/A)^2)_+ to (r, p): for each trial A
+    the best p0' is linear; A is scanned between half and twice the largest loaded r, then
+    refined by golden section (as output::analysis::fit_elliptic)."""
+    rmax = r[p > 0].max()
+
+    def cost(a):
+        s = np.sqrt(np.clip(1.0 - (r / a) ** 2, 0.0, None))
+        ss = (s * s).sum()
+        q = (s * p).sum() / ss if ss > 0 else 0.0
+        return ((p - q * s) ** 2).sum(), q
+
+    grid = np.linspace(0.5 * rmax, 2.0 * rmax, 201)
+    k = int(np.argmin([cost(a)[0] for a in grid]))
+    step = grid[1] - grid[0]
+    lo, hi = max(grid[k] - step, 1e-12), grid[k] + step
+    g = 0.5 * (5.0 ** 0.5 - 1.0)
+    for _ in range(60):
+        x, y = hi - g * (hi - lo), lo + g * (hi - lo)
+        if cost(x)[0] < cost(y)[0]:
+            hi = y
+        else:
+            lo = x
+    a = 0.5 * (lo + hi)
+    return a, cost(a)[1]
 
 
 def main():
@@ -87,7 +116,9 @@ def main():
     theory = p0 * np.sqrt(np.clip(1.0 - (r[inside] / a) ** 2, 0.0, None))
     mre = np.mean(np.abs(p[inside] - theory)) / p0
     print(f"frame {frames[-1]}: a = {a:.5g} m, p0 = {p0:.5g} Pa, {inside.sum()} particles within 0.8a")
-    print(f"MRE = {100.0 * mre:.2f} %, peak pressure {p.max():.5g} Pa ({100.0 * (p.max() / p0 - 1.0):+.2f} % of p0)")
+    fitted, _ = fit_elliptic(np, r[facing], p[facing])
+    print(f"MRE = {100.0 * mre:.2f} %, fitted radius {fitted:.5g} m ({100.0 * (fitted / a - 1.0):+.2f} %), "
+          f"peak pressure {p.max():.5g} Pa ({100.0 * (p.max() / p0 - 1.0):+.2f} % of p0)")
 
 
 if __name__ == "__main__":
