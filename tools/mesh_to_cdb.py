@@ -21,6 +21,8 @@ What is written:
     node count, element number, then the nodes (more than 8 continue on one more line).
   * One element component (CMBLOCK, ranges as `first -last`) per physical volume group of the
     source mesh, named after the group in upper case; with no groups, one named BODY.
+  * One node component (CMBLOCK ... NODE) per physical surface group, the nodes of its faces
+    (a load or a boundary set, as an ANSYS user names the nodes of a face).
 
 --check reads OUT back with ansys-mapdl-reader (`pip install ansys-mapdl-reader`), an
 independent CDB reader, and compares node coordinates, element types, node lists and element
@@ -95,6 +97,23 @@ def volume_groups(mesh):
     return groups
 
 
+def surface_groups(mesh):
+    """{NAME: source node indices} for the physical groups of 2-D cells (faces)."""
+    faces = {"triangle", "triangle6", "quad", "quad8", "quad9"}
+    groups = {}
+    for name, per_block in mesh.cell_sets.items():
+        if name.startswith("gmsh:"):
+            continue
+        nodes = [
+            np.asarray(block.data)[np.asarray(sel, dtype=int)].ravel()
+            for block, sel in zip(mesh.cells, per_block)
+            if block.type in faces and sel is not None and len(sel)
+        ]
+        if nodes:
+            groups[re.sub(r"[^A-Z0-9_]", "_", name.upper())[:32]] = np.unique(np.concatenate(nodes))
+    return groups
+
+
 def collect(mesh, tet4_as_185):
     """Solids as (ansys element number, record node indices, meshio type, source nodes)."""
     blocks = []
@@ -166,6 +185,15 @@ def write_cdb(mesh, out, source, tet4_as_185=False):
     for name, ids in comps.items():
         items = ranges(ids)
         w.append(f"CMBLOCK,{name:<8s},ELEM,{len(items):8d}  ! users element component definition")
+        w.append("(8i10)")
+        for i in range(0, len(items), 8):
+            w.append("".join(f"{v:10d}" for v in items[i : i + 8]))
+    for name, nodes in surface_groups(mesh).items():
+        ids = sorted(int(number[i]) for i in nodes if number[i] > 0)
+        if name in comps or not ids:
+            continue
+        items = ranges(ids)
+        w.append(f"CMBLOCK,{name:<8s},NODE,{len(items):8d}  ! users node component definition")
         w.append("(8i10)")
         for i in range(0, len(items), 8):
             w.append("".join(f"{v:10d}" for v in items[i : i + 8]))
@@ -280,6 +308,12 @@ def check(out, mesh, blocks, used, number, comps):
     for name, ids in comps.items():
         got = np.asarray(arch.element_components.get(name, []))
         say(np.array_equal(np.sort(got), np.asarray(ids)), f"component {name}: {len(got)} elements")
+    for name, nodes in surface_groups(mesh).items():
+        if name in comps:
+            continue
+        want = np.sort(number[nodes][number[nodes] > 0])
+        got = np.sort(np.asarray(arch.node_components.get(name, [])))
+        say(np.array_equal(got, want), f"node component {name}: {len(got)} nodes")
     return not bad
 
 
