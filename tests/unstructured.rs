@@ -58,9 +58,20 @@ fn run_text(scene: &str, tag: &str) -> Model {
     model
 }
 
-/// Runs the whole-sphere Hertz scene on `mesh` and returns the model, Hertz's a and p0, and the
-/// figures of METHOD.md §7 (every facing particle within 0.8a).
-fn hertz_run(mesh: &Path, tag: &str) -> (Model, f64, f64, Accuracy, f64) {
+/// Runs the Hertz scene on `mesh` under the whole sphere's load `load` and returns the model,
+/// Hertz's a and p0, the figures of METHOD.md §7 (every facing particle within 0.8a) and the
+/// peak. `quarter`: the mesh is a quarter cap, cut by the planes x = 0 and y = 0 (symmetry),
+/// carrying a quarter of the load on its set `top`; otherwise the load is spread over the body.
+fn hertz_run(mesh: &Path, load: f64, quarter: bool, tag: &str) -> (Model, f64, f64, Accuracy, f64) {
+    let (set, force, symmetry) = if quarter {
+        (
+            "set = \"top\"\n",
+            load / 4.0,
+            "[[symmetry]]\nbody = \"ball\"\naxis = \"x\"\n[[symmetry]]\nbody = \"ball\"\naxis = \"y\"\n",
+        )
+    } else {
+        ("", load, "")
+    };
     let model = run_text(
         &format!(
             r#"
@@ -82,17 +93,17 @@ kind = "rigid"
 generator = {{ shape = "plane", point = [0.0, 0.0, -1.0], normal = [0.0, 0.0, 1.0], size = 3.0 }}
 [[load]]
 body = "ball"
-force = [0.0, 0.0, -{LOAD:e}]
+{set}force = [0.0, 0.0, -{force:e}]
 [[contact]]
 slave = "ball"
 master = "plane"
 radius = 100.0
-"#,
+{symmetry}"#,
             mesh.display()
         ),
         tag,
     );
-    let (a, p0) = hertz_sphere(LOAD, 1.0, e_star_rigid(YOUNGS, POISSON));
+    let (a, p0) = hertz_sphere(load, 1.0, e_star_rigid(YOUNGS, POISSON));
     let patch = contact_patch(&model, 0, None).expect("in contact");
     let acc = elliptic_accuracy(&patch, a, p0);
     let peak = patch.peak;
@@ -117,49 +128,12 @@ fn own_pressure_mre(model: &Model, a: f64, p0: f64) -> f64 {
 /// scene of `pdcontact demo` with that mesh (docs/VALIDATION.md, "Unstructured quarter caps").
 #[test]
 fn hertz_sphere_cap_on_a_gmsh_default_tet_mesh() {
-    let load = 4.8e6;
-    let model = run_text(
-        &format!(
-            r#"
-[solver]
-kind = "adr"
-tolerance = 1e-4
-max_iterations = 50000
-[[body]]
-name = "cap"
-mesh = "{}"
-kinematics = "small"
-[body.material]
-youngs_modulus = {YOUNGS:e}
-poisson_ratio = {POISSON}
-density = 1000.0
-[[body]]
-name = "plane"
-kind = "rigid"
-generator = {{ shape = "plane", point = [0.0, 0.0, -1.0], normal = [0.0, 0.0, 1.0], size = 3.0 }}
-[[load]]
-body = "cap"
-set = "top"
-force = [0.0, 0.0, -{:e}]
-[[contact]]
-slave = "cap"
-master = "plane"
-radius = 100.0
-[[symmetry]]
-body = "cap"
-axis = "x"
-[[symmetry]]
-body = "cap"
-axis = "y"
-"#,
-            mesh_path("sphere_cap_quarter_tet4.msh").display(),
-            load / 4.0
-        ),
+    let (model, a, p0, acc, peak) = hertz_run(
+        &mesh_path("sphere_cap_quarter_tet4.msh"),
+        4.8e6,
+        true,
         "cap-tet4",
     );
-    let (a, p0) = hertz_sphere(load, 1.0, e_star_rigid(YOUNGS, POISSON));
-    let patch = contact_patch(&model, 0, None).expect("in contact");
-    let acc = elliptic_accuracy(&patch, a, p0);
     // Measured: MRE 1.88 %, radius +3.18 %, peak +1.66 % (own pressures: 4.77 %, +4.27 %,
     // +11.6 %). The issue's aims: MRE 3 %, radius 3 % (not yet met at a/h = 7.5), peak 10 %.
     assert!(acc.mre < 0.03, "MRE {}", acc.mre);
@@ -168,18 +142,15 @@ axis = "y"
         "a {}",
         acc.fitted_radius / a
     );
-    assert!(
-        (patch.peak / p0 - 1.0).abs() < 0.05,
-        "peak {}",
-        patch.peak / p0
-    );
+    assert!((peak / p0 - 1.0).abs() < 0.05, "peak {}", peak / p0);
     let own = own_pressure_mre(&model, a, p0);
     assert!(own > acc.mre + 0.02, "own {own} recovered {}", acc.mre);
 }
 
 #[test]
 fn hertz_sphere_on_a_gmsh_default_tet_mesh() {
-    let (model, a, p0, acc, peak) = hertz_run(&mesh_path("sphere_tet4_h007.msh"), "tet4");
+    let (model, a, p0, acc, peak) =
+        hertz_run(&mesh_path("sphere_tet4_h007.msh"), LOAD, false, "tet4");
     // Measured: MRE 6.70 %, radius +5.70 %, peak -5.36 % (each particle's own pressure: 6.41 %,
     // +5.75 %, -2.72 %; on tets the error is the contact's width, not scatter).
     assert!(acc.mre < 0.075, "MRE {}", acc.mre);
@@ -215,7 +186,8 @@ fn hertz_sphere_on_a_gmsh_default_tet_mesh() {
 /// figures are those of a coarse mesh; `pdcontact validate --mesh` prints the same ones.
 #[test]
 fn hertz_sphere_on_a_gmsh_default_tet10_mesh() {
-    let (model, a, p0, acc, peak) = hertz_run(&mesh_path("sphere_tet10_h008.msh"), "tet10");
+    let (model, a, p0, acc, peak) =
+        hertz_run(&mesh_path("sphere_tet10_h008.msh"), LOAD, false, "tet10");
     // gmsh's mesh has 55,844 nodes, of which 7,435 are corners of its 38,508 tet10.
     assert_eq!(model.bodies[0].as_pd().expect("deformable").len(), 7435);
     // Measured: MRE 8.12 %, radius +4.96 %, peak -7.00 % (own pressures: 7.90 %, +7.07 %, -7.54 %).
@@ -260,7 +232,8 @@ fn eigenvalue_surface_on_tets_split_into_hexes() {
 
 #[test]
 fn hertz_sphere_on_tets_split_into_hexes() {
-    let (model, a, p0, acc, peak) = hertz_run(&mesh_path("sphere_hex_h020.msh"), "hex");
+    let (model, a, p0, acc, peak) =
+        hertz_run(&mesh_path("sphere_hex_h020.msh"), LOAD, false, "hex");
     // Measured: MRE 6.22 %, radius +2.52 %, peak -0.67 %. Each particle's own pressure gives
     // 7.53 %, +2.69 %, +0.82 % (23.9 % while interior particles facing the plane counted as
     // surface): the recovery on the surface takes out the scatter of the irregular cloud.

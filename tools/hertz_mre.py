@@ -20,33 +20,6 @@ import sys
 from pathlib import Path
 
 
-def fit_elliptic(np, r, p):
-    """(A, p0') of the least-squares fit of p0' sqrt(1 - (r/A)^2)_+ to (r, p): for each trial A
-    the best p0' is linear; A is scanned between half and twice the largest loaded r, then
-    refined by golden section (as output::analysis::fit_elliptic)."""
-    rmax = r[p > 0].max()
-
-    def cost(a):
-        s = np.sqrt(np.clip(1.0 - (r / a) ** 2, 0.0, None))
-        ss = (s * s).sum()
-        q = (s * p).sum() / ss if ss > 0 else 0.0
-        return ((p - q * s) ** 2).sum(), q
-
-    grid = np.linspace(0.5 * rmax, 2.0 * rmax, 201)
-    k = int(np.argmin([cost(a)[0] for a in grid]))
-    step = grid[1] - grid[0]
-    lo, hi = max(grid[k] - step, 1e-12), grid[k] + step
-    g = 0.5 * (5.0 ** 0.5 - 1.0)
-    for _ in range(60):
-        x, y = hi - g * (hi - lo), lo + g * (hi - lo)
-        if cost(x)[0] < cost(y)[0]:
-            hi = y
-        else:
-            lo = x
-    a = 0.5 * (lo + hi)
-    return a, cost(a)[1]
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     ap.add_argument("run_dir", type=Path)
@@ -116,7 +89,11 @@ def main():
     theory = p0 * np.sqrt(np.clip(1.0 - (r[inside] / a) ** 2, 0.0, None))
     mre = np.mean(np.abs(p[inside] - theory)) / p0
     print(f"frame {frames[-1]}: a = {a:.5g} m, p0 = {p0:.5g} Pa, {inside.sum()} particles within 0.8a")
-    fitted, _ = fit_elliptic(np, r[facing], p[facing])
+    # The fit of output::analysis::fit_elliptic, as the finite-element reference computes it.
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from fe_reference.metrics import fit_elliptic
+
+    fitted, _ = fit_elliptic(r[facing], p[facing])
     print(f"MRE = {100.0 * mre:.2f} %, fitted radius {fitted:.5g} m ({100.0 * (fitted / a - 1.0):+.2f} %), "
           f"peak pressure {p.max():.5g} Pa ({100.0 * (p.max() / p0 - 1.0):+.2f} % of p0)")
 

@@ -33,29 +33,13 @@ import numpy as np
 import gmsh
 
 from . import ccx, deck, forces, metrics, surface
-from .mesh import TET10_EDGES, _midside_order
+from .mesh import TET10_EDGES, _midside_order, _size_field
 from .problem import Problem
 
 MESHES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "meshes")
 PB = Problem()          # R = 1, E = 1e9, nu = 0.25, a = 0.15 -> P = 4.8e6
 A = PB.contact_radius
 FQ = PB.load / 4        # quarter load 1.2e6 N
-
-
-def size_field(h, hmax, fine, growth=0.3):
-    f = gmsh.model.mesh.field
-    d = f.add("MathEval")
-    f.setString(d, "F", "Sqrt(x*x + y*y + (z+1)*(z+1))")
-    t = f.add("Threshold")
-    f.setNumber(t, "InField", d)
-    f.setNumber(t, "SizeMin", h)
-    f.setNumber(t, "SizeMax", hmax)
-    f.setNumber(t, "DistMin", fine)
-    f.setNumber(t, "DistMax", fine + (hmax - h) / growth)
-    f.setAsBackgroundMesh(t)
-    for opt in ("Mesh.MeshSizeExtendFromBoundary", "Mesh.MeshSizeFromPoints",
-                "Mesh.MeshSizeFromCurvature"):
-        gmsh.option.setNumber(opt, 0)
 
 
 def build(shape):
@@ -102,7 +86,7 @@ def make_mesh(shape, h, hmax, fine, w):
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add(shape)
         top = build(shape)
-        size_field(h, hmax, fine)
+        _size_field(None, h, hmax, fine, 0.3, centre=(0.0, 0.0, -1.0))
         gmsh.option.setNumber("Mesh.Algorithm", 6)
         gmsh.option.setNumber("Mesh.Algorithm3D", 1)
         gmsh.option.setNumber("Mesh.Optimize", 1)
@@ -155,57 +139,6 @@ def tri_load(x, tris, total):
     return nodes, -total * area / area.sum(), float(area.sum())
 
 
-def write_deck(path, x, conn, faces, plane, load_nodes, load_f, patch, nodes, *,
-               penalty=1e14, overlap, rematch=2, solver="ITERATIVE CHOLESKY"):
-    n = len(x)
-    pnodes, pconn, ptype, ptop = plane
-    pnodes = pnodes.copy()
-    pnodes[:, -1] += overlap
-    tol = 1e-9
-    with open(path, "w") as f:
-        w = f.write
-        w("** quarter cap on a rigid plane (tools/fe_reference/caps.py)\n*NODE, NSET=NALL\n")
-        for i, p in enumerate(np.vstack([x, pnodes])):
-            w(f"{i + 1}, " + ", ".join(f"{v:.12e}" for v in p) + "\n")
-        w("*ELEMENT, TYPE=C3D10, ELSET=CAP\n")
-        for e, c in enumerate(conn):
-            w(f"{e + 1}, " + ", ".join(str(v + 1) for v in c) + "\n")
-        w(f"*ELEMENT, TYPE={ptype}, ELSET=PLANE\n")
-        for e, c in enumerate(pconn):
-            w(f"{len(conn) + e + 1}, " + ", ".join(str(v + n + 1) for v in c) + "\n")
-        deck._nset(f, "NPLANE", np.arange(n, n + len(pnodes)))
-        deck._nset(f, "NPATCH", patch)
-        deck._nset(f, "NSURF", nodes)
-        w("*SURFACE, NAME=SCAP\n")
-        for e, label, _ in faces:
-            w(f"{e + 1}, S{label}\n")
-        w("*SURFACE, NAME=SPLANE\n")
-        for e in range(len(pconn)):
-            w(f"{len(conn) + e + 1}, S{ptop}\n")
-        w(f"*MATERIAL, NAME=ELASTIC\n*ELASTIC\n{PB.youngs:.10g}, {PB.poisson:.10g}\n")
-        w("*SOLID SECTION, ELSET=CAP, MATERIAL=ELASTIC\n")
-        w("*SOLID SECTION, ELSET=PLANE, MATERIAL=ELASTIC\n")
-        w("*BOUNDARY\nNPLANE, 1, 3\n")
-        deck._nset(f, "NSYMX", np.nonzero(np.abs(x[:, 0]) < tol)[0])
-        deck._nset(f, "NSYMY", np.nonzero(np.abs(x[:, 1]) < tol)[0])
-        w("*BOUNDARY\nNSYMX, 1, 1\nNSYMY, 2, 2\n")
-        w("*SURFACE INTERACTION, NAME=SI\n*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n")
-        w(f"{penalty:.6g}\n")
-        w("*CONTACT PAIR, INTERACTION=SI, TYPE=SURFACE TO SURFACE\nSCAP, SPLANE\n")
-        for k in range(1 + rematch):
-            w(f"*STEP, INC=200\n*STATIC, SOLVER={solver}\n1., 1.\n")
-            if k == 0:
-                w("*CLOAD\n")
-                for i, fz in zip(load_nodes, load_f):
-                    if fz != 0.0:
-                        w(f"{i + 1}, 3, {fz:.12e}\n")
-            if k == rematch:
-                w("*NODE PRINT, NSET=NPATCH\nU\n")
-                w("*NODE PRINT, NSET=NPLANE, TOTALS=ONLY\nRF\n")
-                w("*CONTACT PRINT\nCSTR\n")
-            w("*END STEP\n")
-
-
 def level(r, p):
     inside = r <= 0.8 * A
     theory = PB.p0 * np.sqrt(np.clip(1 - (r[inside] / A) ** 2, 0, None))
@@ -243,8 +176,10 @@ def main():
     pl = deck.plane_block(g, 1.0, 0.05)
     plane = (pl[0], pl[1], "C3D8", pl[2])
     t_mesh = time.perf_counter() - t0
-    write_deck(os.path.join(wd, "contact.inp"), x, conn, faces, plane, load_nodes, load_f,
-               patch, nodes, overlap=0.5 * PB.approach)
+    deck.write_contact_deck(os.path.join(wd, "contact.inp"), x, conn, "C3D10", faces, PB,
+                            penalty=1e14, overlap=0.5 * PB.approach, solver="ITERATIVE CHOLESKY",
+                            plane=plane, patch_nodes=patch, surface_nodes=nodes, load_share=0.25,
+                            loading="nodal", nodal_forces=(load_nodes, load_f))
     t_ccx = ccx.run("contact", wd, args.threads)
     dat = ccx.read_dat(os.path.join(wd, "contact.dat"))
     iters = ccx.log_iterations(os.path.join(wd, "contact.log"))

@@ -80,8 +80,11 @@ def plane_block(g, radius, thickness):
 
 def write_contact_deck(path, x, conn, etype, faces, problem, *, penalty, overlap, solver,
                        plane, patch_nodes, surface_nodes, load_share, slave="sphere",
-                       nlgeom=False, rematch=2, loading="body"):
+                       nlgeom=False, rematch=2, loading="body", nodal_forces=None):
     """Writes the contact analysis; returns the index of the node nearest the centre.
+
+    loading: "body" (a uniform body force totalling P), "equator" (P at the centre node, the
+    equator kept plane) or "nodal" (`nodal_forces` = (node indices, z forces), as they are).
 
     plane = (nodes, conn, element type, label of the top face). overlap: the plane starts
     this far (m) above the pole, so that contact exists from the first iteration (under
@@ -97,6 +100,8 @@ def write_contact_deck(path, x, conn, etype, faces, problem, *, penalty, overlap
     if loading == "body":
         equator = []
         weight = problem.load * load_share / forces.volume(x, conn)   # N/m^3
+    elif loading == "nodal":
+        equator = []
     elif loading == "equator":
         equator = np.nonzero(np.abs(x[:, -1]) < tol)[0]
         if np.linalg.norm(x[centre]) > tol:
@@ -166,6 +171,11 @@ def write_contact_deck(path, x, conn, etype, faces, problem, *, penalty, overlap
                     # Uniform body force ("gravity" with density 1) totalling P, downward.
                     down = "0., -1., 0." if dim == 2 else "0., 0., -1."
                     w(f"*DLOAD\nSPHERE, GRAV, {weight:.12g}, {down}\n")
+                elif loading == "nodal":
+                    w("*CLOAD\n")
+                    for i, fz in zip(*nodal_forces):
+                        if fz != 0.0:
+                            w(f"{i + 1}, {dim}, {fz:.12e}\n")
                 else:
                     w(f"*CLOAD\n{centre + 1}, {dim}, {-problem.load * load_share:.12g}\n")
             w("*NODE PRINT, NSET=NREF\nU\n")

@@ -34,10 +34,17 @@ def _midside_order(x, conn, ncorner, edges):
     return out
 
 
-def _size_field(point_tag, h, hmax, fine, growth):
+def _size_field(point_tag, h, hmax, fine, growth, centre=None):
+    """Size h within `fine` of the geometry point `point_tag` (or of the point `centre`, for a
+    geometry without a vertex there), growing with slope `growth` to hmax."""
     f = gmsh.model.mesh.field
-    d = f.add("Distance")
-    f.setNumbers(d, "PointsList", [point_tag])
+    if centre is None:
+        d = f.add("Distance")
+        f.setNumbers(d, "PointsList", [point_tag])
+    else:
+        d = f.add("MathEval")
+        x, y, z = centre
+        f.setString(d, "F", f"Sqrt((x-({x}))*(x-({x})) + (y-({y}))*(y-({y})) + (z-({z}))*(z-({z})))")
     t = f.add("Threshold")
     f.setNumber(t, "InField", d)
     f.setNumber(t, "SizeMin", h)
