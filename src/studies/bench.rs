@@ -450,6 +450,27 @@ mod tests {
     }
 }
 
+/// Times an ADR run from the end of its first iteration to the end of its last.
+#[derive(Default)]
+struct StepClock {
+    first: Option<Instant>,
+    last: Option<Instant>,
+    steps: usize,
+}
+
+impl crate::solver::Monitor for StepClock {
+    fn step(&mut self, _: &crate::model::Model, _: usize, _: f64, _: f64) -> Result<()> {
+        let now = Instant::now();
+        self.first.get_or_insert(now);
+        self.last = Some(now);
+        self.steps += 1;
+        Ok(())
+    }
+    fn finish(&mut self, _: &crate::model::Model, _: usize, _: f64) -> Result<()> {
+        Ok(())
+    }
+}
+
 /// `pdcontact bench --adr SCENE`: what one ADR iteration costs against one bare bond-force
 /// pass ([`internal_forces`](crate::model::internal_forces): bonds and loads, every deformable
 /// body) on the scene's bodies. The ADR iterations are the solver's own (contact, residual,
@@ -555,18 +576,19 @@ pub fn run_adr(
         }
         let contact_pass = start.elapsed().as_secs_f64() / iterations as f64;
 
-        // ADR's setup (densities, first force evaluation, first step) is paid once: time one
-        // iteration and `iterations + 1`, each on a fresh model, and take the difference.
-        let timed_adr = |n: usize| -> Result<(f64, crate::model::Model, usize)> {
-            let mut model = crate::model::Model::from_scene(scene)?;
-            let start = Instant::now();
-            let stats = crate::solver::adr(&mut model, 0.0, n, 1, &mut crate::solver::Silent)?;
-            Ok((start.elapsed().as_secs_f64(), model, stats.iterations))
+        // ADR's setup (densities, first force evaluation, first step) is paid once: the clock
+        // runs from the end of the first iteration to the end of the last, in one run (two
+        // runs timed apart and subtracted can come out negative on a busy machine).
+        let mut model = crate::model::Model::from_scene(scene)?;
+        let mut clock = StepClock::default();
+        crate::solver::adr(&mut model, 0.0, iterations + 1, 1, &mut clock)?;
+        let timed_iterations = clock.steps.saturating_sub(1);
+        let adr = match (clock.first, clock.last) {
+            (Some(first), Some(last)) if timed_iterations > 0 => {
+                (last - first).as_secs_f64() / timed_iterations as f64
+            }
+            _ => 0.0,
         };
-        let (once, _, _) = timed_adr(1)?;
-        let (all, model, done) = timed_adr(iterations + 1)?;
-        let timed_iterations = done.saturating_sub(1);
-        let adr = (all - once).max(0.0) / timed_iterations.max(1) as f64;
         Ok(AdrReport {
             scene: scene.source.clone(),
             particles: model.particles(),
