@@ -37,6 +37,9 @@ pub struct ConvertSummary {
     pub bonds: usize,
     pub spacing: f64,
     pub horizon: f64,
+    /// On a mesh graded in size, the smallest and largest local spacing `s_i`: each bond's
+    /// horizon is m times its particles' mean (`HorizonKind::Local`); `None` where δ is one.
+    pub local_spacing: Option<[f64; 2]>,
     pub total_volume: f64,
     pub mesh_volume: f64,
     pub surface_particles: usize,
@@ -69,6 +72,12 @@ impl ConvertSummary {
             bonds: case.bonds.len(),
             spacing: case.particles.spacing,
             horizon: case.horizon,
+            local_spacing: case.local_spacing.as_ref().map(|s| {
+                [
+                    s.iter().copied().fold(f64::INFINITY, f64::min),
+                    s.iter().copied().fold(0.0, f64::max),
+                ]
+            }),
             total_volume: case.particles.total_volume(),
             mesh_volume: case.particles.mesh_volume,
             surface_particles: agreement.surface_particles,
@@ -129,6 +138,13 @@ impl ConvertSummary {
             self.seconds.write,
             self.seconds.total,
         );
+        if let Some([lo, hi]) = self.local_spacing {
+            text.push_str(&format!(
+                "graded mesh: local spacing {lo:.4e} to {hi:.4e} ({:.1}:1); each bond's horizon is {:.3} times its particles' spacing\n",
+                hi / lo,
+                self.horizon / self.spacing
+            ));
+        }
         for w in &self.warnings {
             text.push_str(&format!("warning: {w}\n"));
         }
@@ -312,6 +328,13 @@ pub fn write_case_files_with(
         CellSpec::Vertices,
         vec![
             Field::scalar("volume", p.volume.clone()),
+            Field::scalar(
+                "horizon",
+                match &case.local_spacing {
+                    Some(s) => s.iter().map(|x| case.horizon_factor * x).collect(),
+                    None => vec![case.horizon; p.len()],
+                },
+            ),
             Field::scalar("lambda_min", case.surface.lambda_min.clone()),
             Field::scalar("kernel_fill", case.surface.kernel_fill.clone()),
             Field::flag("surface", &case.surface.is_surface),

@@ -326,8 +326,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             let options = CaseOptions {
                 spacing,
                 horizon_factor,
-                correction: pdcontact::case::correction::CorrectionMethod::Balanced,
-                symmetry: Vec::new(),
+                ..Default::default()
             };
             let (_, summary) = pdcontact::convert::convert(&mesh, format, &output, options)?;
             print_report(json, &summary, || {

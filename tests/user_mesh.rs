@@ -4,7 +4,8 @@
 //!
 //! Stored meshes, gmsh 4.15.2 defaults with only the size set: `meshes/sphere_tet4_h007.msh`
 //! (the sphere of tests/unstructured.rs, in the same scene: the same figures) and
-//! `meshes/cylinder_tet4_h006.msh` (R = 1 m, axis y, length 0.3 m, h = 0.06 m).
+//! `meshes/cylinder_tet4_h006.msh` (R = 1 m, axis y, length 0.3 m, h = 0.06 m); and
+//! `meshes/sphere_tet4_graded.msh`, gmsh's tets refined towards the contact.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -80,6 +81,67 @@ fn sphere_on_the_stored_tet_mesh() {
     for file in ["scene.toml", "summary.json", "pressure.svg", "run.pvd"] {
         assert!(case.join(file).is_file(), "{file} missing");
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A sphere meshed as FE users mesh a contact: gmsh's default tets refined towards the pole
+/// (`meshes/sphere_tet4_graded.geo`: 0.0333 m within 1.5a of it, growing to 0.15 m; 10,328
+/// particles whose local spacing spreads 4.4:1). The horizon follows the local spacing, so
+/// the contact is resolved as the fine zone's size says (a/Δ = 8.2 there) and the figures meet
+/// the targets of a uniformly fine mesh with an eighth of its particles. With one horizon the
+/// same mesh cannot run: 21 particles of the coarse zone have no bond within δ = 3 × the
+/// median spacing, and the run is refused with that cause.
+#[test]
+fn sphere_on_a_mesh_refined_towards_the_contact() {
+    let dir = temp_dir("graded");
+    let report = validate_mesh(
+        &repo("meshes/sphere_tet4_graded.msh"),
+        None,
+        Problem::Sphere,
+        CONTACT_RATIO,
+        &dir,
+        true,
+    )
+    .expect("sphere runs");
+    let row = &report.rows[0];
+    assert_eq!(row.particles, 10328);
+    // The spacing at the contact, not the body's median (0.0468 m, a/Δ = 6.4).
+    assert!(
+        (8.0..8.4).contains(&report.contact_spacings),
+        "a/Δ {}",
+        report.contact_spacings
+    );
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    // Measured: MRE 4.16 %, radius +1.90 %, peak −3.53 %.
+    assert!(row.mre < 0.05, "MRE {}", row.mre);
+    assert!(row.radius_error.abs() < 0.03, "a {}", row.radius_error);
+    let peak = row.peak_error.expect("a Hertz row has a peak");
+    assert!(peak.abs() < 0.1, "peak {peak}");
+    assert!(row.force_balance_error < 1e-3);
+
+    // The same scene with one horizon for every bond: refused before the first step, naming
+    // the particles without a bond.
+    let scene = std::fs::read_to_string(&report.scene).expect("scene written");
+    let uniform = scene.replacen(
+        "kinematics = \"small\"",
+        "horizon = \"uniform\"\nkinematics = \"small\"",
+        1,
+    );
+    assert_ne!(uniform, scene);
+    let path = dir.join("uniform.toml");
+    std::fs::write(&path, uniform).expect("scene written");
+    let out = Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+        .args(["run", "--quiet", "-o"])
+        .arg(dir.join("uniform"))
+        .arg(&path)
+        .output()
+        .expect("pdcontact runs");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("21 of its 10328 particles have no bond"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

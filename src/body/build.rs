@@ -348,6 +348,7 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                     .surface_correction
                     .unwrap_or(CorrectionMethod::Balanced),
                 symmetry,
+                horizon: spec.horizon.unwrap_or_default(),
             };
             let case = PdCase::build(mesh, options).map_err(|e| match e {
                 Error::Input(msg) => {

@@ -91,12 +91,59 @@ pub fn volume_correction(len: f64, horizon: f64, spacing: f64) -> f64 {
     }
 }
 
+/// A body's horizon (METHOD.md §2): `δ = mΔ` for every bond, or, on a mesh graded in size, one
+/// per bond from the local spacings `s_i` of its two particles: `δ_ij = m s_ij`, the volume
+/// correction's `r_ij = s_ij/2`, `s_ij = (s_i + s_j)/2`.
+///
+/// A single δ = mΔ on a mesh refined towards a contact holds the coarse zone's horizon in the
+/// fine zone: hundreds of partners per particle there and a nonlocal length as long as the
+/// coarse elements, so refining near the contact bought nothing (a sphere graded 0.025 →
+/// 0.15 m: MRE 26 %, docs/VALIDATION.md). With a horizon per bond the micromodulus is the
+/// bond's own, `c_ij = 12E/(π δ_ij⁴)` (Eq. 5), carried here as `(δ/δ_ij)⁴` times the body's
+/// `c`; the surface correction then balances each particle's energy as on a uniform mesh.
+#[derive(Clone, Copy, Debug)]
+pub struct Horizon<'a> {
+    /// `δ = mΔ`, the reference of the body's micromodulus `c = 12E/(πδ⁴)`.
+    pub radius: f64,
+    /// Δ.
+    pub spacing: f64,
+    /// Local spacing `s_i` per particle, mirror images included; `None`: Δ everywhere.
+    pub local: Option<&'a [f64]>,
+}
+
+impl Horizon<'_> {
+    /// One horizon `radius` for every bond, with the volume correction of `spacing`.
+    pub fn uniform(radius: f64, spacing: f64) -> Horizon<'static> {
+        Horizon {
+            radius,
+            spacing,
+            local: None,
+        }
+    }
+
+    /// `v_c(|ξ|) (δ/δ_ij)⁴` of the bond from `i` to `j` (indices of the extended particle
+    /// list): its volume correction (Eq. 10) at its own horizon, times its micromodulus
+    /// relative to the body's `c`.
+    #[inline]
+    pub fn bond_scale(&self, i: usize, j: usize, len: f64) -> f64 {
+        match self.local {
+            None => volume_correction(len, self.radius, self.spacing),
+            Some(s) => {
+                let sij = 0.5 * (s[i] + s[j]);
+                let k = sij / self.spacing;
+                volume_correction(len, self.radius * k, sij) / (k * k * k * k)
+            }
+        }
+    }
+}
+
 /// Surface correction factors and the per-bond factor `G_ij · v_c` they give.
 #[derive(Clone, Debug, Default)]
 pub struct SurfaceCorrection {
     /// `g_i` per axis.
     pub g: Vec<[f64; 3]>,
-    /// `G_ij · v_c(|ξ_ij|)` per directed bond.
+    /// `G_ij · v_c(|ξ_ij|)` per directed bond, times `(δ/δ_ij)⁴` where the horizon is local
+    /// ([`Horizon::bond_scale`]).
     pub bond_factor: Vec<f64>,
     /// Largest `|W_i^corrected / W_∞ − 1|` over particles and the three loads.
     pub max_energy_error: f64,
@@ -120,12 +167,11 @@ fn relative_energies(
     position: &[Vec3],
     volume: &[f64],
     bonds: &BondList,
-    horizon: f64,
-    spacing: f64,
+    horizon: &Horizon,
     factor: impl Fn(usize, usize, [f64; 3]) -> f64 + Sync,
 ) -> Vec<[f64; 3]> {
     // With c = 12E/(πδ⁴), W_∞ = (3/5) E ε² gives ¼ c ε² / W_∞ = 5/(π δ⁴).
-    let scale = 5.0 / (std::f64::consts::PI * horizon.powi(4));
+    let scale = 5.0 / (std::f64::consts::PI * horizon.radius.powi(4));
     (0..bonds.particles())
         .into_par_iter()
         .map(|i| {
@@ -135,8 +181,7 @@ fn relative_energies(
                 let len = bonds.length(b);
                 let d = (position[j] - position[i]) / len;
                 let n2 = [d.x * d.x, d.y * d.y, d.z * d.z];
-                let a =
-                    len * volume_correction(len, horizon, spacing) * volume[j] * factor(i, j, n2);
+                let a = len * horizon.bond_scale(i, j, len) * volume[j] * factor(i, j, n2);
                 for k in 0..3 {
                     w[k] += a * n2[k] * n2[k];
                 }
@@ -168,10 +213,9 @@ impl BondGeometry {
         volume: &[f64],
         source: &[usize],
         bonds: &BondList,
-        horizon: f64,
-        spacing: f64,
+        horizon: &Horizon,
     ) -> BondGeometry {
-        let scale = 5.0 / (std::f64::consts::PI * horizon.powi(4));
+        let scale = 5.0 / (std::f64::consts::PI * horizon.radius.powi(4));
         let total = bonds.len();
         let mut n2 = [vec![0f32; total], vec![0f32; total], vec![0f32; total]];
         let mut weight = vec![0f32; total];
@@ -197,8 +241,7 @@ impl BondGeometry {
                     x[k] = (d.x * d.x) as f32;
                     y[k] = (d.y * d.y) as f32;
                     z[k] = (d.z * d.z) as f32;
-                    w[k] =
-                        (scale * len * volume_correction(len, horizon, spacing) * volume[j]) as f32;
+                    w[k] = (scale * len * horizon.bond_scale(i, j, len) * volume[j]) as f32;
                     s[k] = source[j] as u32;
                 }
             }
@@ -362,7 +405,8 @@ pub fn surface_correction(
     method: CorrectionMethod,
 ) -> SurfaceCorrection {
     let source: Vec<usize> = (0..position.len()).collect();
-    surface_correction_with(position, volume, &source, bonds, horizon, spacing, method)
+    let horizon = Horizon::uniform(horizon, spacing);
+    surface_correction_with(position, volume, &source, bonds, &horizon, method)
 }
 
 /// [`surface_correction`] with an explicit image → source map.
@@ -371,15 +415,14 @@ pub fn surface_correction_with(
     volume: &[f64],
     source: &[usize],
     bonds: &BondList,
-    horizon: f64,
-    spacing: f64,
+    horizon: &Horizon,
     method: CorrectionMethod,
 ) -> SurfaceCorrection {
     let n = bonds.particles();
     let energies = |f: &(dyn Fn(usize, usize, [f64; 3]) -> f64 + Sync)| {
-        relative_energies(position, volume, bonds, horizon, spacing, f)
+        relative_energies(position, volume, bonds, horizon, f)
     };
-    let raw = relative_energies(position, volume, bonds, horizon, spacing, |_, _, _| 1.0);
+    let raw = relative_energies(position, volume, bonds, horizon, |_, _, _| 1.0);
     let first_g: Vec<[f64; 3]> = raw
         .iter()
         .map(|w| w.map(|x| if x > 0.0 { 1.0 / x } else { 1.0 }))
@@ -390,8 +433,8 @@ pub fn surface_correction_with(
     let (g, combine): (Vec<[f64; 3]>, Combine) = match method {
         CorrectionMethod::None => {
             let bond_factor = (0..n)
-                .flat_map(|i| bonds.range(i))
-                .map(|b| volume_correction(bonds.length(b), horizon, spacing))
+                .flat_map(|i| bonds.range(i).map(move |b| (i, b)))
+                .map(|(i, b)| horizon.bond_scale(i, bonds.partner[b] as usize, bonds.length(b)))
                 .collect();
             return SurfaceCorrection {
                 g: vec![[1.0; 3]; n],
@@ -414,7 +457,7 @@ pub fn surface_correction_with(
             // What a pass needs of each bond, computed once: the pass runs up to MAX_PASSES
             // times and is bound by memory, so single precision halves its traffic; the
             // iteration only has to reach 1 %, and the final factors below are in f64.
-            let geometry = BondGeometry::new(position, volume, source, bonds, horizon, spacing);
+            let geometry = BondGeometry::new(position, volume, source, bonds, horizon);
             // Over-relaxed while the error falls; plain Sinkhorn (ω = 1, which cannot
             // overshoot) from the first pass where it does not, on meshes whose local modes
             // the over-relaxation would excite.
@@ -489,7 +532,7 @@ pub fn surface_correction_with(
                     let d = (position[j] - position[i]) / len;
                     let n2 = [d.x * d.x, d.y * d.y, d.z * d.z];
                     out[b - base] = ellipsoid(n2, combine(&operand[i], &operand[source[j]]))
-                        * volume_correction(len, horizon, spacing);
+                        * horizon.bond_scale(i, j, len);
                 }
             }
         });

@@ -8,6 +8,7 @@
 //! |---|---|
 //! | built-in hex8 shapes (meshes made in memory) | [`generators`] |
 //! | particles, volumes, spacing | [`discretize`](mod@discretize) |
+//! | local spacing of a graded mesh | [`spacing`](mod@spacing) |
 //! | cell lists, bond families | [`neighbours`] |
 //! | the bond-force pass, each pair once | [`pairs`] |
 //! | volume and surface correction | [`correction`] |
@@ -21,15 +22,18 @@ pub mod generators;
 pub mod neighbours;
 pub mod pairs;
 pub mod segments;
+pub mod spacing;
 pub mod surface;
 
 use std::time::Instant;
 
 use pdcontact_importers::{boundary_faces, FaceSet, Mesh};
 
-use crate::case::correction::{surface_correction_with, CorrectionMethod, SurfaceCorrection};
+use crate::case::correction::{
+    surface_correction_with, CorrectionMethod, Horizon, SurfaceCorrection,
+};
 use crate::case::discretize::{discretize, Discretization};
-use crate::case::neighbours::{build_bonds_from, BondList};
+use crate::case::neighbours::{build_bonds_variable, BondList};
 use crate::case::segments::{master_segments, SegmentSet};
 use crate::case::surface::{detect_surface, SurfaceDetection, NORMAL_KERNEL_WIDTH};
 use crate::error::{Error, Result};
@@ -189,6 +193,19 @@ impl Ghosts {
     }
 }
 
+/// Whether the horizon follows an imported mesh's local spacing.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HorizonKind {
+    /// `δ_ij = m s_ij` from the particles' local spacings ([`spacing::local_spacing`]) where
+    /// the spacing is the mesh's own (no `spacing` given); `δ = mΔ` for a given spacing or a
+    /// generated body.
+    #[default]
+    Local,
+    /// `δ = mΔ` for every bond (the paper's).
+    Uniform,
+}
+
 /// Options of the discretisation.
 #[derive(Clone, Debug)]
 pub struct CaseOptions {
@@ -200,6 +217,8 @@ pub struct CaseOptions {
     pub correction: CorrectionMethod,
     /// Symmetry planes: the body's mirror images across them complete its neighbourhoods.
     pub symmetry: Vec<SymmetryPlane>,
+    /// One horizon, or one per bond from the local spacing.
+    pub horizon: HorizonKind,
 }
 
 impl Default for CaseOptions {
@@ -209,6 +228,7 @@ impl Default for CaseOptions {
             horizon_factor: DEFAULT_HORIZON_FACTOR,
             correction: CorrectionMethod::Balanced,
             symmetry: Vec::new(),
+            horizon: HorizonKind::Local,
         }
     }
 }
@@ -240,8 +260,12 @@ pub struct PdCase {
     pub mesh: Mesh,
     pub faces: FaceSet,
     pub particles: Discretization,
-    /// Horizon δ.
+    /// Horizon δ = mΔ (where the horizon is local, the reference of the micromodulus; each
+    /// bond's own is `m s_ij`).
     pub horizon: f64,
+    /// Local spacing `s_i` per particle where the horizon follows it ([`HorizonKind::Local`]
+    /// on an imported mesh), else `None` (Δ everywhere).
+    pub local_spacing: Option<Vec<f64>>,
     pub horizon_factor: f64,
     pub bonds: BondList,
     pub surface: SurfaceDetection,
@@ -269,10 +293,21 @@ impl PdCase {
         let horizon = options.horizon_factor * spacing;
 
         let t = Instant::now();
-        // Bonds reach δ + r (r = Δ/2, Eq. 10); the 1e-9 keeps lattice bonds exactly at the
-        // edge. Mirror images lie as far from their planes as the bonds and the surface's
-        // widest kernel reach (3h at h = 2 s_i, taking s_i = Δ).
-        let reach = (horizon + 0.5 * spacing) * (1.0 + 1e-9);
+        let local_spacing = (options.spacing.is_none() && options.horizon == HorizonKind::Local)
+            .then(|| {
+                spacing::local_spacing(&particles.position, &particles.completed_volume(), spacing)
+            })
+            .filter(|s| spacing::spread(s) >= spacing::GRADED_RATIO);
+        // Bonds reach δ + r (r = Δ/2, Eq. 10), or δ_ij + r_ij (the mean of the two particles'
+        // reaches); the 1e-9 keeps lattice bonds exactly at the edge. Mirror images lie as far
+        // from their planes as the bonds and the surface's widest kernel reach (3h at
+        // h = 2 s_i, taking s_i = Δ).
+        let reach_of = |s: f64| (options.horizon_factor + 0.5) * s * (1.0 + 1e-9);
+        let reach = match &local_spacing {
+            Some(s) => s.iter().copied().fold(0.0, f64::max),
+            None => spacing,
+        };
+        let reach = reach_of(reach);
         let ghosts = Ghosts::build(
             &options.symmetry,
             &particles.position,
@@ -281,7 +316,12 @@ impl PdCase {
         );
         let mut position = Vec::new();
         ghosts.extend_positions(&particles.position, &mut position);
-        let bonds = build_bonds_from(&position, particles.len(), reach);
+        let extended_spacing = local_spacing.as_ref().map(|s| ghosts.extend(s));
+        let reaches: Vec<f64> = match &extended_spacing {
+            Some(s) => s.iter().map(|&x| reach_of(x)).collect(),
+            None => vec![reach; position.len()],
+        };
+        let bonds = build_bonds_variable(&position, particles.len(), &reaches);
         times.neighbours = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
@@ -319,8 +359,11 @@ impl PdCase {
             &ghosts.partner_volumes(&particles.volume),
             &source,
             &bonds,
-            horizon,
-            spacing,
+            &Horizon {
+                radius: horizon,
+                spacing,
+                local: extended_spacing.as_deref(),
+            },
             options.correction,
         );
         times.correction = t.elapsed().as_secs_f64();
@@ -346,6 +389,7 @@ impl PdCase {
             faces,
             particles,
             horizon,
+            local_spacing,
             horizon_factor: options.horizon_factor,
             bonds,
             surface,

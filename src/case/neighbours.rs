@@ -224,23 +224,74 @@ pub fn build_pairs(points: &[Vec3], radius: f64) -> BondList {
     build(points, points.len(), radius, true)
 }
 
+/// Bonds of the first `queries` points to every point `j` with `|x_j − x_i| ≤ (ρ_i + ρ_j)/2`,
+/// `ρ = reach` given per point (mirror images included): the bond families of a body whose
+/// horizon follows its local spacing ([`crate::case::correction::Horizon`]). The criterion is
+/// symmetric, so `j` is a partner of `i` exactly when `i` is one of `j`.
+pub fn build_bonds_variable(points: &[Vec3], queries: usize, reach: &[f64]) -> BondList {
+    assert_eq!(points.len(), reach.len());
+    let widest = reach.iter().copied().fold(0.0, f64::max);
+    let mut typical: Vec<f64> = reach[..queries].to_vec();
+    let typical = if typical.is_empty() {
+        widest
+    } else {
+        let mid = typical.len() / 2;
+        *typical.select_nth_unstable_by(mid, f64::total_cmp).1
+    };
+    build_with(
+        points,
+        queries,
+        typical,
+        |i| 0.5 * (reach[i] + widest),
+        |i, j, d2| {
+            let r = 0.5 * (reach[i] + reach[j]);
+            d2 <= r * r
+        },
+        false,
+    )
+}
+
 fn build(points: &[Vec3], queries: usize, radius: f64, half: bool) -> BondList {
+    let r2 = radius * radius;
+    build_with(
+        points,
+        queries,
+        radius,
+        |_| radius,
+        |_, _, d2| d2 <= r2,
+        half,
+    )
+}
+
+/// The neighbour search: `search(i)` bounds the distance of `i`'s partners, `bonded(i, j, d²)`
+/// decides each candidate, `cell` is the typical search radius.
+fn build_with(
+    points: &[Vec3],
+    queries: usize,
+    cell: f64,
+    search: impl Fn(usize) -> f64 + Sync,
+    bonded: impl Fn(usize, usize, f64) -> bool + Sync,
+    half: bool,
+) -> BondList {
     // Cells of half the radius: the 5×5×5 block around a point holds about half the candidates
     // of the 3×3×3 block of cells of side `radius`.
-    let grid = CellGrid::new(points, 0.5 * radius);
-    let r2 = radius * radius;
+    let grid = CellGrid::new(points, 0.5 * cell);
     let within = |i: usize, j: u32| {
         (if half {
             j as usize > i
         } else {
             j as usize != i
-        }) && (points[j as usize] - points[i]).norm_squared() <= r2
+        }) && bonded(
+            i,
+            j as usize,
+            (points[j as usize] - points[i]).norm_squared(),
+        )
     };
     let counts: Vec<usize> = (0..queries)
         .into_par_iter()
         .map(|i| {
             let mut n = 0;
-            grid.for_each_candidate(&points[i], radius, |j| n += within(i, j) as usize);
+            grid.for_each_candidate(&points[i], search(i), |j| n += within(i, j) as usize);
             n
         })
         .collect();
@@ -270,7 +321,7 @@ fn build(points: &[Vec3], queries: usize, radius: f64, half: bool) -> BondList {
             let range = offsets[i] - base..offsets[i + 1] - base;
             let dst = &mut p[range.clone()];
             let mut k = 0;
-            grid.for_each_candidate(&points[i], radius, |j| {
+            grid.for_each_candidate(&points[i], search(i), |j| {
                 // Same test as the counting pass, so exactly `dst.len()` partners arrive.
                 if within(i, j) && k < dst.len() {
                     dst[k] = j;

@@ -19,6 +19,7 @@ mod check;
 pub(crate) use check::{box_corner, memory_limit};
 
 use crate::case::correction::CorrectionMethod;
+use crate::case::HorizonKind;
 use crate::error::{Error, Result};
 
 /// The whole scene file.
@@ -181,6 +182,10 @@ pub struct BodySpec {
     pub horizon_factor: Option<f64>,
     /// Surface correction method (default "balanced").
     pub surface_correction: Option<CorrectionMethod>,
+    /// "local" (default): on a mesh without a given `spacing`, each bond's horizon is m times
+    /// the local spacing of its particles, so that a mesh refined towards the contact is as
+    /// fine there in the model; "uniform": δ = mΔ everywhere.
+    pub horizon: Option<HorizonKind>,
     /// Bond kinematics: "finite" (default; stretch of the deformed bond, paper Eq. 26) or
     /// "small" (linearised: extension along the reference bond, for small-strain comparisons).
     #[serde(default)]

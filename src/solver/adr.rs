@@ -18,6 +18,35 @@ use crate::scene::Motion;
 const CONTACT_ROW: f64 = 0.683;
 
 /// ADR's Gershgorin density of the bonds, per particle: ½ max_α Σ_j w_ij |n_α| ‖n‖₁.
+/// A particle without a bond has no stiffness: ADR's fictitious density (Eq. 30) is zero there
+/// and the first step divides by it. Said before the run, with its cause, instead of the NaN
+/// it would end in.
+fn unbonded_particles(model: &Model, density: &[Vec<f64>]) -> Result<()> {
+    for (b, d) in model.bodies.iter().zip(density) {
+        let Body::Deformable(pd) = b else { continue };
+        let lonely: Vec<usize> = (0..pd.len()).filter(|&i| !(d[i] > 0.0)).collect();
+        let Some(&first) = lonely.first() else {
+            continue;
+        };
+        let case = &pd.case;
+        let node = case.mesh.node_ids[case.particles.node[first] as usize];
+        let x = case.particles.position[first];
+        return Err(Error::input(format!(
+            "body \"{}\": {} of its {} particles have no bond (the first: node {node} at [{:.4}, {:.4}, {:.4}]), so a static run cannot hold them: the horizon δ = {:.4e} m (Δ = {:.4e} m times {}) is shorter than the distance to their nearest neighbours; the mesh is coarser there than elsewhere. Leave the body's `spacing` unset and `horizon = \"local\"` (the default), so that the horizon follows a graded mesh, or give a larger `spacing`",
+            pd.name,
+            lonely.len(),
+            pd.len(),
+            x.x,
+            x.y,
+            x.z,
+            case.horizon,
+            case.particles.spacing,
+            case.horizon_factor
+        )));
+    }
+    Ok(())
+}
+
 fn bond_density(model: &Model) -> Vec<Vec<f64>> {
     model
         .bodies
@@ -126,6 +155,7 @@ pub fn adr(
         ));
     }
     let density = bond_density(model);
+    unbonded_particles(model, &density)?;
     let mut stats = RunStats {
         solver: "adr".into(),
         ..Default::default()

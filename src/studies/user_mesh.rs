@@ -27,7 +27,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use crate::case::discretize::discretize;
+use crate::case::discretize::{discretize, Discretization};
 use crate::case::DEFAULT_HORIZON_FACTOR;
 use crate::error::{Error, Result};
 use crate::importers::{boundary_faces, Format, Mesh};
@@ -88,7 +88,9 @@ pub struct MeshValidation {
     pub shape: MeshShape,
     /// Hertz contact radius or half-width, m.
     pub theory_contact_radius: f64,
-    /// The particle spacing Δ of the mesh (the run's grid spacing), m.
+    /// The particle spacing Δ at the contact, m: the run's grid spacing, or on a mesh graded in
+    /// size the local spacing there (the median over the particles within `a` of the contact
+    /// point or line, [`crate::case::spacing`]).
     pub spacing: f64,
     /// `a/Δ`: particle spacings across the contact radius.
     pub contact_spacings: f64,
@@ -482,11 +484,13 @@ pub fn validate_mesh(
     };
     let mesh = crate::importers::read_format(path, &data, format_used)?;
     drop(data);
-    let spacing = discretize(&mesh, None)?.spacing;
+    let particles = discretize(&mesh, None)?;
+    let spacing = particles.spacing;
     let shape = measure(&mesh, path, problem, 1e-6 * spacing)?;
     drop(mesh);
     let a = ratio * shape.radius;
-    let contact_spacings = a / spacing;
+    let contact_spacing = spacing_at_contact(&particles, &shape, a);
+    let contact_spacings = a / contact_spacing;
     let mut warnings = Vec::new();
     if contact_spacings < MIN_CONTACT_SPACINGS {
         warnings.push(format!(
@@ -494,10 +498,10 @@ pub fn validate_mesh(
         ));
     }
     let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
-    let case = mesh_case(&absolute, format, &shape, spacing, ratio);
+    let case = mesh_case(&absolute, format, &shape, contact_spacing, ratio);
     if !quiet {
         eprintln!(
-            "{} on {}: R = {:.4} m, Δ = {spacing:.4} m, a/Δ = {contact_spacings:.1} ...",
+            "{} on {}: R = {:.4} m, Δ = {contact_spacing:.4} m, a/Δ = {contact_spacings:.1} ...",
             case.problem.name(),
             path.display(),
             shape.radius
@@ -512,10 +516,44 @@ pub fn validate_mesh(
         format: format_used.name().into(),
         shape,
         theory_contact_radius: a,
-        spacing,
+        spacing: contact_spacing,
         contact_spacings,
         warnings,
         scene,
         rows,
     })
+}
+
+/// The particle spacing where the contact will be: Δ on a mesh of one size, the median local
+/// spacing of the particles within `a` of the contact point (a roller: line) on a graded one,
+/// whose horizon follows it ([`crate::case::HorizonKind::Local`]).
+fn spacing_at_contact(particles: &Discretization, shape: &MeshShape, a: f64) -> f64 {
+    let local = crate::case::spacing::local_spacing(
+        &particles.position,
+        &particles.completed_volume(),
+        particles.spacing,
+    );
+    if crate::case::spacing::spread(&local) < crate::case::spacing::GRADED_RATIO {
+        return particles.spacing;
+    }
+    let mut point = Vec3::from(shape.centre);
+    point[shape.press] = shape.lowest;
+    let mut near: Vec<f64> = particles
+        .position
+        .iter()
+        .zip(&local)
+        .filter(|(x, _)| {
+            let mut d = *x - point;
+            if let Some(k) = shape.axis_index {
+                d[k] = 0.0;
+            }
+            d.norm() <= a
+        })
+        .map(|(_, &s)| s)
+        .collect();
+    if near.is_empty() {
+        return particles.spacing;
+    }
+    let mid = near.len() / 2;
+    *near.select_nth_unstable_by(mid, f64::total_cmp).1
 }
