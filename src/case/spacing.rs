@@ -93,7 +93,7 @@ mod tests {
         let mut p = Vec::new();
         let mut v = Vec::new();
         // Layers along x with spacing h(x) = 0.1 (1 + x/2) for x in [0, 2].
-        let mut x = 0.0;
+        let mut x: f64 = 0.0;
         while x <= 2.0 {
             let h = 0.1 * (1.0 + x / 2.0);
             let m = (1.0 / h).round() as i32;
