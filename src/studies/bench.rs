@@ -578,10 +578,12 @@ pub fn run_adr(
 
         // ADR's setup (densities, first force evaluation, first step) is paid once: the clock
         // runs from the end of the first iteration to the end of the last, in one run (two
-        // runs timed apart and subtracted can come out negative on a busy machine).
+        // runs timed apart and subtracted can come out negative on a busy machine). ADR's
+        // first iteration is its setup step, which the monitor does not see: `iterations + 2`
+        // gives `iterations + 1` monitored ends, `iterations` intervals between them.
         let mut model = crate::model::Model::from_scene(scene)?;
         let mut clock = StepClock::default();
-        crate::solver::adr(&mut model, 0.0, iterations + 1, 1, &mut clock)?;
+        crate::solver::adr(&mut model, 0.0, iterations + 2, 1, &mut clock)?;
         let timed_iterations = clock.steps.saturating_sub(1);
         let adr = match (clock.first, clock.last) {
             (Some(first), Some(last)) if timed_iterations > 0 => {
