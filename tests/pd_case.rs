@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use pdcontact::body::{Material, PdBody};
-use pdcontact::case::{CaseOptions, PdCase};
+use pdcontact::case::{CaseOptions, HorizonKind, PdCase};
 use pdcontact::importers::read_path;
 use pdcontact::math::Vec3;
 
@@ -114,9 +114,16 @@ fn surface_correction_is_bounded_where_it_cannot_balance() {
         eprintln!("../shared/corpus not present: test skipped");
         return;
     }
+    // One horizon: with a local one (the sector's node volumes spread over 2:1) the bond
+    // factor also carries each bond's micromodulus ratio (δ/δ_ij)⁴, which is not the
+    // correction's to bound.
     let case = |file: &str| {
         let mesh = read_path(&dir.join(file), None).expect("corpus mesh");
-        PdCase::build(mesh, CaseOptions::default()).expect("valid mesh")
+        let options = CaseOptions {
+            horizon: HorizonKind::Uniform,
+            ..CaseOptions::default()
+        };
+        PdCase::build(mesh, options).expect("valid mesh")
     };
     // An ANSYS sector, a few particles thick: unbounded, a bond's factor reached 1.4e3 and a
     // particle's energy 9.7 times the bulk value.
