@@ -33,7 +33,7 @@ use crate::case::correction::{
     surface_correction_with, CorrectionMethod, Horizon, SurfaceCorrection,
 };
 use crate::case::discretize::{discretize, Discretization};
-use crate::case::neighbours::{build_bonds_variable, BondList};
+use crate::case::neighbours::{build_bonds_from, build_bonds_variable, BondList};
 use crate::case::segments::{master_segments, SegmentSet};
 use crate::case::surface::{detect_surface, SurfaceDetection, NORMAL_KERNEL_WIDTH};
 use crate::error::{Error, Result};
@@ -197,7 +197,7 @@ impl Ghosts {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum HorizonKind {
-    /// `δ_ij = m s_ij` from the particles' local spacings ([`spacing::local_spacing`]) where
+    /// `δ_ij = m s_ij` from the particles' local spacings ([`spacing::graded_spacing`]) where
     /// the spacing is the mesh's own (no `spacing` given); `δ = mΔ` for a given spacing or a
     /// generated body.
     #[default]
@@ -293,11 +293,11 @@ impl PdCase {
         let horizon = options.horizon_factor * spacing;
 
         let t = Instant::now();
-        let local_spacing = (options.spacing.is_none() && options.horizon == HorizonKind::Local)
-            .then(|| {
-                spacing::local_spacing(&particles.position, &particles.completed_volume(), spacing)
-            })
-            .filter(|s| spacing::spread(s) >= spacing::GRADED_RATIO);
+        let local_spacing = if options.spacing.is_none() && options.horizon == HorizonKind::Local {
+            spacing::graded_spacing(&particles.position, &particles.completed_volume(), spacing)
+        } else {
+            None
+        };
         // Bonds reach δ + r (r = Δ/2, Eq. 10), or δ_ij + r_ij (the mean of the two particles'
         // reaches); the 1e-9 keeps lattice bonds exactly at the edge. Mirror images lie as far
         // from their planes as the bonds and the surface's widest kernel reach (3h at
@@ -317,11 +317,13 @@ impl PdCase {
         let mut position = Vec::new();
         ghosts.extend_positions(&particles.position, &mut position);
         let extended_spacing = local_spacing.as_ref().map(|s| ghosts.extend(s));
-        let reaches: Vec<f64> = match &extended_spacing {
-            Some(s) => s.iter().map(|&x| reach_of(x)).collect(),
-            None => vec![reach; position.len()],
+        let bonds = match &extended_spacing {
+            Some(s) => {
+                let reaches: Vec<f64> = s.iter().map(|&x| reach_of(x)).collect();
+                build_bonds_variable(&position, particles.len(), &reaches)
+            }
+            None => build_bonds_from(&position, particles.len(), reach),
         };
-        let bonds = build_bonds_variable(&position, particles.len(), &reaches);
         times.neighbours = t.elapsed().as_secs_f64();
 
         let t = Instant::now();

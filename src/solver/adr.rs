@@ -17,7 +17,6 @@ use crate::scene::Motion;
 /// Gershgorin factor of a penalty contact block `k n⊗n` and its reaction: ½ max_α |n_α| ‖n‖₁.
 const CONTACT_ROW: f64 = 0.683;
 
-/// ADR's Gershgorin density of the bonds, per particle: ½ max_α Σ_j w_ij |n_α| ‖n‖₁.
 /// A particle without a bond has no stiffness: ADR's fictitious density (Eq. 30) is zero there
 /// and the first step divides by it. Said before the run, with its cause, instead of the NaN
 /// it would end in.
@@ -47,6 +46,7 @@ fn unbonded_particles(model: &Model, density: &[Vec<f64>]) -> Result<()> {
     Ok(())
 }
 
+/// ADR's Gershgorin density of the bonds, per particle: ½ max_α Σ_j w_ij |n_α| ‖n‖₁.
 fn bond_density(model: &Model) -> Vec<Vec<f64>> {
     model
         .bodies

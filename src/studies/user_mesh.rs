@@ -528,14 +528,13 @@ pub fn validate_mesh(
 /// spacing of the particles within `a` of the contact point (a roller: line) on a graded one,
 /// whose horizon follows it ([`crate::case::HorizonKind::Local`]).
 fn spacing_at_contact(particles: &Discretization, shape: &MeshShape, a: f64) -> f64 {
-    let local = crate::case::spacing::local_spacing(
+    let Some(local) = crate::case::spacing::graded_spacing(
         &particles.position,
         &particles.completed_volume(),
         particles.spacing,
-    );
-    if crate::case::spacing::spread(&local) < crate::case::spacing::GRADED_RATIO {
+    ) else {
         return particles.spacing;
-    }
+    };
     let mut point = Vec3::from(shape.centre);
     point[shape.press] = shape.lowest;
     let mut near: Vec<f64> = particles
