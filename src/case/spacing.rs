@@ -44,7 +44,9 @@ pub fn spread(s: &[f64]) -> f64 {
 /// `s_i` of each of `position`'s particles from their completed volumes `V_i/ω_i`, starting
 /// from the body's spacing Δ, where the mesh is graded ([`GRADED_RATIO`]); `None` for a mesh
 /// of one size. The last pass averages the estimates over the window, so that `s` varies
-/// smoothly from particle to particle.
+/// smoothly from particle to particle. Where the spacing grows quickly the window holds more
+/// particles on its fine side, and `s` is up to 10 % under the lattice's where it grows 7.5 %
+/// per spacing (the test below): the horizon there is a little short of m spacings.
 pub fn graded_spacing(
     position: &[Vec3],
     completed_volume: &[f64],
@@ -103,15 +105,17 @@ pub fn graded_spacing(
 mod tests {
     use super::*;
 
-    /// A lattice whose spacing doubles from one end to the other: `s` follows it.
+    /// A lattice whose spacing grows fourfold from one end to the other: graded, and `s`
+    /// follows it.
     #[test]
     fn follows_a_graded_lattice() {
+        let h_at = |x: f64| 0.05 * (1.0 + 1.5 * x);
         let mut p = Vec::new();
         let mut v = Vec::new();
-        // Layers along x with spacing h(x) = 0.1 (1 + x/2) for x in [0, 2].
+        // Layers along x with spacing h(x) for x in [0, 2], each a square of side 1.
         let mut x: f64 = 0.0;
         while x <= 2.0 {
-            let h = 0.1 * (1.0 + x / 2.0);
+            let h = h_at(x);
             let m = (1.0 / h).round() as i32;
             for j in 0..m {
                 for k in 0..m {
@@ -121,17 +125,16 @@ mod tests {
             }
             x += h;
         }
-        let s = graded_spacing(&p, &v, 0.15).expect("spacing spreads 2:1");
+        let s = graded_spacing(&p, &v, 0.1).expect("spacing spreads 4:1");
+        let mut worst: f64 = 0.0;
         for (pi, si) in p.iter().zip(&s) {
             if pi.x > 0.5 && pi.x < 1.5 && pi.y > 0.3 && pi.y < 0.7 && pi.z > 0.3 && pi.z < 0.7 {
-                let h = 0.1 * (1.0 + pi.x / 2.0);
-                assert!(
-                    (si / h - 1.0).abs() < 0.06,
-                    "x = {}: s = {si}, h = {h}",
-                    pi.x
-                );
+                worst = worst.max((si / h_at(pi.x) - 1.0).abs());
             }
         }
+        // Measured 9.9 %: where the spacing grows 7.5 % per spacing, as here, the window holds
+        // more particles on its fine side and the median leans to it.
+        assert!(worst < 0.12, "{worst}");
     }
 
     #[test]
