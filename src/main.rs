@@ -94,6 +94,12 @@ enum Command {
         /// mesh needs a/Δ >= 5 across the contact).
         #[arg(long, value_name = "A_OVER_R", default_value_t = pdcontact::studies::user_mesh::CONTACT_RATIO, requires = "mesh")]
         contact_ratio: f64,
+        /// With --mesh: the horizon δ = MΔ in particle spacings (default 3). Where the contact
+        /// spans few spacings (a/Δ about 5), 2.5 narrows a contact that m = 3 makes too wide on
+        /// tet meshes, at the price of more scatter on irregular ones (tets split into hexes);
+        /// see docs/VALIDATION.md.
+        #[arg(long, value_name = "M", requires = "mesh")]
+        horizon_factor: Option<f64>,
         /// Output folder (one subfolder per run).
         #[arg(short, long, default_value = "pdcontact-validate")]
         output: PathBuf,
@@ -356,6 +362,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             mesh,
             format,
             contact_ratio,
+            horizon_factor,
             output,
             json,
             quiet,
@@ -375,6 +382,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                     format,
                     problem,
                     contact_ratio,
+                    horizon_factor,
                     &output,
                     quiet,
                 )?;

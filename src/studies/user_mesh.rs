@@ -318,13 +318,15 @@ fn vector(v: [f64; 3]) -> String {
 
 /// The validation case of `shape`, measured on the mesh at `mesh` (an absolute path), with
 /// the particle spacing `spacing` (for the table), loaded so that Hertz's contact radius (or
-/// half-width) is `ratio` times the body's radius.
+/// half-width) is `ratio` times the body's radius; `horizon_factor` is the body's m when the
+/// user sets one (METHOD.md §2: δ = mΔ, 3 by default).
 pub fn mesh_case(
     mesh: &Path,
     format: Option<Format>,
     shape: &MeshShape,
     spacing: f64,
     ratio: f64,
+    horizon_factor: Option<f64>,
 ) -> ValidationCase {
     let radius = shape.radius;
     let a = ratio * radius;
@@ -376,6 +378,14 @@ pub fn mesh_case(
     let format_line = format
         .map(|f| format!("format = \"{}\"\n", f.name()))
         .unwrap_or_default();
+    let horizon_line = horizon_factor
+        .map(|m| {
+            format!(
+                "horizon_factor = {}          # δ = mΔ (3 by default)\n",
+                num(m)
+            )
+        })
+        .unwrap_or_default();
     let load_note = match problem {
         Problem::Roller => format!("P = {} N/m over the length", num(load)),
         _ => format!("P = {} N", num(load)),
@@ -394,7 +404,7 @@ every = 1000000
 [[body]]
 name = "{name}"
 mesh = {quoted}
-{format_line}kinematics = "small"         # Hertz theory is small-strain: compare like with like
+{format_line}{horizon_line}kinematics = "small"         # Hertz theory is small-strain: compare like with like
 [body.material]
 youngs_modulus = {e:e}
 poisson_ratio = {POISSON}
@@ -448,7 +458,7 @@ keep = "negative"
         set: Set::Mesh,
         label: "mesh".into(),
         spacing,
-        horizon_factor: DEFAULT_HORIZON_FACTOR,
+        horizon_factor: horizon_factor.unwrap_or(DEFAULT_HORIZON_FACTOR),
         scene,
         reference,
     }
@@ -456,12 +466,13 @@ keep = "negative"
 
 /// Reads the mesh at `path`, measures the shape, runs the Hertz scene with a contact radius
 /// (or half-width) of `ratio` times the body's radius into `folder/<sphere|roller>-mesh/` and
-/// compares it with theory.
+/// compares it with theory. `horizon_factor`: the body's m where the user sets one.
 pub fn validate_mesh(
     path: &Path,
     format: Option<Format>,
     problem: Problem,
     ratio: f64,
+    horizon_factor: Option<f64>,
     folder: &Path,
     quiet: bool,
 ) -> Result<MeshValidation> {
@@ -474,6 +485,13 @@ pub fn validate_mesh(
         return Err(Error::input(format!(
             "--contact-ratio {ratio}: expected the contact radius over the body's radius, above 0 and at most {MAX_CONTACT_RATIO} (Hertz theory assumes a contact small against the body; 0.15 or less is where it holds well)"
         )));
+    }
+    if let Some(m) = horizon_factor {
+        if !(m.is_finite() && m >= 1.0) {
+            return Err(Error::input(format!(
+                "--horizon-factor {m}: expected the horizon in particle spacings, at least 1 (a horizon shorter than the spacing holds no bonds); 3 is the default"
+            )));
+        }
     }
     let data = std::fs::read(path).map_err(|e| {
         crate::importers::ImportError::whole_file(path, "a readable file", e.to_string())
@@ -494,11 +512,18 @@ pub fn validate_mesh(
     let mut warnings = Vec::new();
     if contact_spacings < MIN_CONTACT_SPACINGS {
         warnings.push(format!(
-            "the contact spans only {contact_spacings:.1} spacings (a/Δ < {MIN_CONTACT_SPACINGS}); expect larger errors; refine the mesh near the contact"
+            "the contact spans only {contact_spacings:.1} spacings (a/Δ < {MIN_CONTACT_SPACINGS}); expect larger errors; refine the mesh near the contact (on tets, --horizon-factor 2.5 narrows a contact that the default horizon makes too wide: docs/VALIDATION.md)"
         ));
     }
     let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
-    let case = mesh_case(&absolute, format, &shape, contact_spacing, ratio);
+    let case = mesh_case(
+        &absolute,
+        format,
+        &shape,
+        contact_spacing,
+        ratio,
+        horizon_factor,
+    );
     if !quiet {
         eprintln!(
             "{} on {}: R = {:.4} m, Δ = {contact_spacing:.4} m, a/Δ = {contact_spacings:.1} ...",
