@@ -10,11 +10,14 @@ use serde::Serialize;
 use crate::case::segments::MasterSegment;
 use crate::case::{CaseOptions, PdCase};
 use crate::contact::estimate::{
-    resolve, sig, ContactResolution, ContactSurface, RESOLVED_SPACINGS, SMALL_STRAIN_RATIO,
+    resolve, sig, ContactResolution, ContactSurface, PENALTY_TARGET, RESOLVED_SPACINGS,
+    SMALL_STRAIN_RATIO,
 };
+use crate::contact::{hertz_stiffness, ContactLaw, WINDOW};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::output::vtk::{write_atomically, write_vtu, CellSpec, Field};
+use crate::scene::PenaltyLaw;
 
 /// Seconds spent per stage.
 #[derive(Clone, Copy, Debug, Default, Serialize)]
@@ -206,6 +209,10 @@ pub struct SkeletonLoad {
     pub resolution: ContactResolution,
     /// What the estimate warns of.
     pub warnings: Vec<String>,
+    /// The `[[contact]]`'s penalty radius R: the default Δ/2 where it keeps a particle at the
+    /// expected peak within [`PENALTY_TARGET`] of the contact's depth, else the radius that
+    /// does (`None` without an estimate: the default).
+    pub penalty_radius: Option<f64>,
 }
 
 impl SkeletonLoad {
@@ -254,6 +261,7 @@ impl SkeletonLoad {
                 reason: "strains the body by about 1e-4 over its footprint (its underside is not convex: no Hertz estimate)".into(),
                 resolution,
                 warnings,
+                penalty_radius: None,
             };
         }
         // The spacing is measured within 2a of the contact: settle a and Δ together.
@@ -290,11 +298,26 @@ impl SkeletonLoad {
         };
         warnings.extend(resolution.area_warning());
         warnings.extend(resolution.graded_warning());
+        // The default penalty R = Δ/2 lets the particles sink by a tenth or more of a contact
+        // a few spacings wide (METHOD.md §5): the case gets the radius that keeps it small.
+        let law = |radius: f64| ContactLaw {
+            law: PenaltyLaw::Hertz,
+            stiffness: hertz_stiffness(compliance, 0.0, radius),
+            window: WINDOW * case.particles.spacing,
+        };
+        let default = 0.5 * case.particles.spacing;
+        let radius = resolution
+            .clone()
+            .with_penalty(&law(default))
+            .penalty
+            .map_or(default, |p| p.suggested_radius);
+        let resolution = resolution.with_penalty(&law(radius));
         SkeletonLoad {
             force,
             reason,
             resolution,
             warnings,
+            penalty_radius: Some(radius),
         }
     }
 }
@@ -426,7 +449,7 @@ force = [0.0, 0.0, {fz:e}]  # total force, N: {reason}
 [[contact]]
 slave = "part"
 master = "plane"
-"#,
+{penalty}"#,
         mesh_name = mesh_path.display(),
         case_path = out.join("case.toml").display(),
         spacing = case.particles.spacing,
@@ -437,6 +460,10 @@ master = "plane"
         pz = lo[2],
         fz = -skeleton.force,
         reason = skeleton.reason,
+        penalty = skeleton.penalty_radius.map_or(String::new(), |r| format!(
+            "radius = {r:e}     # penalty R of K = 4E*√R/3: a particle at the expected peak sinks at most {:.1} % of the contact's depth\n",
+            100.0 * PENALTY_TARGET
+        )),
     )
 }
 

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use pdcontact::contact::estimate::{ContactResolution, ContactShape};
+use pdcontact::contact::estimate::{ContactResolution, ContactShape, PENALTY_TARGET};
 use pdcontact::model::Model;
 use pdcontact::output::analysis::{e_star_rigid, hertz_cylinder, hertz_sphere};
 use pdcontact::scene::Scene;
@@ -30,6 +30,11 @@ fn temp_dir(name: &str) -> PathBuf {
 /// The whole-sphere Hertz scene (a body on a rigid plane at z = `floor`, loaded down by `load`) with a
 /// short explicit solve, so that `pdcontact run` ends at once.
 fn plane_scene(mesh: &Path, floor: f64, load: f64) -> String {
+    plane_scene_with(mesh, floor, load, "")
+}
+
+/// [`plane_scene`] with `contact` (such as `radius = 1e4`) added to its `[[contact]]`.
+fn plane_scene_with(mesh: &Path, floor: f64, load: f64, contact: &str) -> String {
     format!(
         r#"
 [solver]
@@ -56,6 +61,7 @@ force = [0.0, 0.0, -{load:e}]
 [[contact]]
 slave = "ball"
 master = "plane"
+{contact}
 "#,
         mesh.display()
     )
@@ -101,7 +107,9 @@ fn coarse_tet_sphere_under_a_small_load_warns_with_the_hertz_numbers() {
     let n = r.spacings.expect("spacings");
     assert!((n - a / r.spacing).abs() < 0.02 * n && n < 1.0, "a/Δ {n}");
     let w = r.warnings();
-    assert_eq!(w.len(), 1, "{w:?}");
+    // The resolution, then the default penalty R = Δ/2, soft against a contact this small.
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert_eq!(w[1], r.penalty_warning().expect("a soft penalty"));
     let expect = format!(
         "contact \"ball\"/\"plane\": expected contact radius ≈ 0.0655 m spans {n:.1} particle spacings (Δ = {:.3} m)",
         r.spacing
@@ -136,7 +144,64 @@ fn resolved_tet_sphere_under_a_resolved_load_does_not_warn() {
     assert!(r.spacings.unwrap() > 4.0, "{r:?}");
     // gmsh-default tets: areas 1.7:1, surface 0.85 of the body's spacing.
     assert!(r.area_ratio < 2.5, "{}", r.area_ratio);
+    // The default penalty R = Δ/2 is soft here, and says so.
+    assert_eq!(r.warnings(), vec![r.penalty_warning().expect("soft")]);
+    let p = r.penalty.as_ref().expect("penalty");
+    assert!(p.ratio > 0.1, "{p:?}");
+
+    // With the radius the warning suggests, nothing is said; the ratio is the target's.
+    let scene = plane_scene_with(
+        &repo("meshes/sphere_tet4_h007.msh"),
+        -1.0,
+        load,
+        &format!("radius = {:e}", p.suggested_radius),
+    );
+    let r = only(resolution_of(&scene));
     assert!(r.warnings().is_empty(), "{:?}", r.warnings());
+    let q = r.penalty.as_ref().expect("penalty");
+    assert!((q.ratio / PENALTY_TARGET - 1.0).abs() < 1e-6, "{q:?}");
+    assert!((q.radius / p.suggested_radius - 1.0).abs() < 1e-9, "{q:?}");
+}
+
+#[test]
+fn the_penalty_warning_measures_the_hertz_sink_of_a_particle() {
+    // Eq. 23 at the peak of Hertz's pressure (Eqs. 34-36), from the theory and the scene
+    // alone: p0 = 3P/(2πa²) on the median tributary area Δ², K = 4E*√R/3, δ = (F/K)^⅔,
+    // against the approach a²/R of the sphere.
+    let load = 3.84e7;
+    let radius: f64 = 100.0;
+    let r = only(resolution_of(&plane_scene_with(
+        &repo("meshes/sphere_tet4_h007.msh"),
+        -1.0,
+        load,
+        &format!("radius = {radius}"),
+    )));
+    let e_star = e_star_rigid(YOUNGS, POISSON);
+    let (a, p0) = hertz_sphere(load, 1.0, e_star);
+    let k = 4.0 / 3.0 * e_star * radius.sqrt();
+    let sink = (p0 * r.spacing * r.spacing / k).powf(2.0 / 3.0);
+    let p = r.penalty.as_ref().expect("penalty");
+    assert!((p.radius / radius - 1.0).abs() < 1e-9, "{p:?}");
+    // The estimate's a and R are fitted to the mesh: within 2 % of the sphere's.
+    assert!(
+        (p.penetration / sink - 1.0).abs() < 0.03,
+        "{p:?} against {sink}"
+    );
+    assert!(
+        (p.depth / (a * a) - 1.0).abs() < 0.05,
+        "{p:?} against {}",
+        a * a
+    );
+    // 1.4 % here (docs/VALIDATION.md, "The penalty"): above the warning's 1 %.
+    assert!(p.ratio > 0.01 && p.ratio < 0.02, "{p:?}");
+    let w = r.penalty_warning().expect("warns");
+    assert!(
+        w.contains("(radius = 100 m)") && w.contains("set radius = "),
+        "{w}"
+    );
+    // The suggested radius is R (ratio/0.3 %)³: the sink falls as R^(-1/3).
+    let want = radius * (p.ratio / PENALTY_TARGET).powi(3);
+    assert!((p.suggested_radius / want - 1.0).abs() < 1e-9, "{p:?}");
 }
 
 #[test]
@@ -164,7 +229,7 @@ fn validation_scenes_estimate_their_theory() {
             0.03,
             3.0,
             "kind = \"adr\"",
-            "method = \"point-to-surface\"",
+            "method = \"point-to-surface\"\nradius = 100.0",
             0.0,
             "block",
         ),
@@ -198,9 +263,19 @@ fn validation_scenes_estimate_their_theory() {
             case.label,
             e.radius
         );
-        // a/Δ = 5 on even layers: no warning.
+        // a/Δ = 5 on even layers: resolved. Their penalty (R = 100 m) lets a particle sink
+        // 1.5 % of the contact's depth at this coarse spacing, and the warning says so; at
+        // the hertz set's a/Δ = 15 it is below 0.5 %.
         assert!((r.spacings.unwrap() - 5.0).abs() < 0.5, "{r:?}");
-        assert!(r.warnings().is_empty(), "{:?}", r.warnings());
+        assert!(
+            r.resolution_warning().is_none()
+                && r.area_warning().is_none()
+                && r.graded_warning().is_none(),
+            "{:?}",
+            r.warnings()
+        );
+        let ratio = r.penalty.as_ref().expect("penalty").ratio;
+        assert!(ratio < 0.02, "{}: {ratio}", case.label);
     }
     // A flat punch on a flat block: no Hertz contact, nothing said.
     let r = only(resolution_of(&hertz_punch_case(8.0).scene));

@@ -160,10 +160,15 @@ impl Model {
         self.contact_pairs()
             .into_iter()
             .map(|(s, m)| {
-                resolve(
+                let r = resolve(
                     &ContactSurface::of_body(&self.bodies[s]),
                     &ContactSurface::of_body(&self.bodies[m]),
-                )
+                );
+                // A two-pass pair's passes share its stiffness; a short-range pair has none.
+                match self.passes.iter().find(|p| p.slave == s && p.master == m) {
+                    Some(p) => r.with_penalty(&p.law),
+                    None => r,
+                }
             })
             .collect()
     }
