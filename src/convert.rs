@@ -13,7 +13,7 @@ use crate::contact::estimate::{
     resolve, sig, ContactResolution, ContactSurface, PENALTY_TARGET, RESOLVED_SPACINGS,
     SMALL_STRAIN_RATIO,
 };
-use crate::contact::{hertz_stiffness, ContactLaw, WINDOW};
+use crate::contact::{default_radius, hertz_stiffness, ContactLaw, WINDOW};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::output::vtk::{write_atomically, write_vtu, CellSpec, Field};
@@ -305,7 +305,7 @@ impl SkeletonLoad {
             stiffness: hertz_stiffness(compliance, 0.0, radius),
             window: WINDOW * case.particles.spacing,
         };
-        let default = 0.5 * case.particles.spacing;
+        let default = default_radius(case.particles.spacing);
         let radius = resolution
             .clone()
             .with_penalty(&law(default))

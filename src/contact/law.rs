@@ -34,6 +34,12 @@ impl ContactLaw {
     }
 }
 
+/// The penalty radius R of a pair that does not give one: Δ/2 of the slave (METHOD.md §5, the
+/// paper's particle radius).
+pub fn default_radius(slave_spacing: f64) -> f64 {
+    0.5 * slave_spacing
+}
+
 /// `K = 4/(3(m_i + m_j)) √R` (Eq. 23), `m` from Eq. 24; `f64::INFINITY` when both are rigid.
 pub fn hertz_stiffness(m_slave: f64, m_master: f64, radius: f64) -> f64 {
     4.0 / (3.0 * (m_slave + m_master)) * radius.sqrt()

@@ -40,7 +40,7 @@ pub mod shortrange;
 use rayon::prelude::*;
 
 pub use broad::VerletList;
-pub use law::{hertz_stiffness, ContactLaw};
+pub use law::{default_radius, hertz_stiffness, ContactLaw};
 pub use narrow::{
     project, project_any, select_across_edge, select_segment, slave_normal, Projection, Touch,
     EDGE_FACING, FACING, INSIDE_TOLERANCE,

@@ -15,7 +15,7 @@ use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
 use crate::case::pairs::{pair_forces, PairKinematics};
 use crate::contact::estimate::{resolve, ContactResolution, ContactSurface};
 use crate::contact::shortrange::ShortRangePass;
-use crate::contact::{hertz_stiffness, ContactLaw, ContactPass, WINDOW};
+use crate::contact::{default_radius, hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::error::Result;
 use crate::math::{Vec3, NOT_A_PARTICLE};
 use crate::parallel::Comm;
@@ -109,7 +109,7 @@ impl Model {
                     Body::Deformable(b) => b.material.compliance(),
                     Body::Rigid(b) => b.material.map_or(0.0, |mat| mat.compliance()),
                 };
-                let radius = c.radius.unwrap_or(0.5 * sb.spacing());
+                let radius = c.radius.unwrap_or(default_radius(sb.spacing()));
                 let law = ContactLaw {
                     law: c.penalty,
                     stiffness: hertz_stiffness(m_slave, m_master, radius),
