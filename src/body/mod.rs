@@ -80,7 +80,8 @@ pub struct PdBody {
     pub force: Vec<Vec3>,
     /// Contact force alone, N.
     pub contact_force: Vec<Vec3>,
-    /// Extra stiffness from contact, for ADR's fictitious density and the stable step (N/m).
+    /// Extra stiffness from contact, for ADR's fictitious density (N/m): the tangent of each
+    /// contact at its penetration ([`crate::contact::ContactLaw::relaxation_stiffness`]).
     pub contact_stiffness: Vec<f64>,
     /// The particles this process moves: all of them, or one rank's range in a decomposed
     /// run ([`crate::model::domain`]).

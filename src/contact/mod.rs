@@ -369,18 +369,22 @@ impl ContactPass {
     /// The slave side of [`apply`](Self::apply): the contacts' forces on the slaves and the
     /// contact stiffness of every slave that may touch.
     pub fn apply_to_slaves(&self, bodies: &mut [Body]) {
-        let tangent = self.weight * self.law.max_tangent();
         let sb = bodies[self.slave].as_pd_mut().expect("slave is deformable");
-        // Every slave with a candidate segment may touch within a step: give it the
-        // contact's largest tangent stiffness (ADR density, explicit step).
+        // Every slave with a candidate segment may touch within a step: it gets the tangent
+        // of a light contact, and a slave in contact its own (ADR's density only: the
+        // explicit step takes the largest tangent, `explicit::stable_time_step`).
+        let may_touch = self.weight * self.law.relaxation_stiffness(0.0);
         for (k, &s) in self.slaves.iter().enumerate() {
             if self.verlet.offsets[k + 1] > self.verlet.offsets[k] {
-                sb.contact_stiffness[s as usize] += tangent;
+                sb.contact_stiffness[s as usize] += may_touch;
             }
         }
         for c in &self.contacts {
             sb.force[c.slave as usize] += c.force;
             sb.contact_force[c.slave as usize] += c.force;
+            // A contact is found among its slave's candidates, so the slave holds `may_touch`.
+            sb.contact_stiffness[c.slave as usize] +=
+                self.weight * self.law.relaxation_stiffness(c.penetration) - may_touch;
         }
     }
 
@@ -392,9 +396,9 @@ impl ContactPass {
         &'a self,
         segments: &'a [MasterSegment],
     ) -> impl Iterator<Item = (u32, Vec3, f64)> + 'a {
-        let tangent = self.weight * self.law.max_tangent();
         self.contacts.iter().flat_map(move |c| {
             let nodes = segments[c.segment as usize].nodes;
+            let tangent = self.weight * self.law.relaxation_stiffness(c.penetration);
             (0..4).filter_map(move |k| {
                 let w = c.projection.weights[k];
                 (w != 0.0).then(|| (nodes[k], -(c.force * w), tangent * w.abs()))
@@ -420,7 +424,6 @@ impl ContactPass {
     /// then the same whether one process or the ranks of a decomposed run, whose ranges hold
     /// whole blocks, made them.
     pub fn block_sums(&self, axis: Option<Vec3>) -> Vec<[f64; 4]> {
-        let tangent = self.weight * self.law.max_tangent();
         let mut out: Vec<[f64; 4]> = Vec::new();
         let mut block = usize::MAX;
         for c in &self.contacts {
@@ -434,7 +437,9 @@ impl ContactPass {
                 g[a] += c.force[a];
             }
             if let Some(axis) = axis {
-                g[3] += tangent * c.projection.normal.dot(&axis).powi(2);
+                g[3] += self.weight
+                    * self.law.relaxation_stiffness(c.penetration)
+                    * c.projection.normal.dot(&axis).powi(2);
             }
         }
         out
@@ -644,5 +649,15 @@ mod tests {
         };
         assert!((law.force(0.01) - k * 1e-3).abs() < 1e-9 * k);
         assert!((law.max_tangent() - 1.5 * k * 0.2).abs() < 1e-9 * k);
+        // ADR's stiffness: dF/dδ by central difference where it is the tangent, the floor
+        // below LIGHT_CONTACT of the window and the edge's tangent past the window.
+        let h = 1e-7;
+        let fd = (law.force(0.01 + h) - law.force(0.01 - h)) / (2.0 * h);
+        assert!((law.relaxation_stiffness(0.01) - fd).abs() < 1e-6 * fd);
+        let floor = law.tangent(law::LIGHT_CONTACT * 0.04);
+        assert!((law.relaxation_stiffness(0.0) - floor).abs() < 1e-12 * floor);
+        assert!((floor - 0.1 * law.max_tangent()).abs() < 1e-9 * floor);
+        assert_eq!(law.relaxation_stiffness(1e-9), floor);
+        assert_eq!(law.relaxation_stiffness(1.0), law.max_tangent());
     }
 }
