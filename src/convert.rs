@@ -4,11 +4,11 @@
 use std::path::Path;
 use std::time::Instant;
 
-use pdcontact_importers::{read_path, Format, Mesh, SetKind};
+use pdcontact_importers::{read_path, ElementKind, Format, Mesh, SetKind};
 use serde::Serialize;
 
 use crate::case::segments::MasterSegment;
-use crate::case::{CaseOptions, PdCase};
+use crate::case::{CaseOptions, PdCase, SecondOrder};
 use crate::contact::estimate::{
     resolve, sig, ContactResolution, ContactSurface, PENALTY_TARGET, RESOLVED_SPACINGS,
     SMALL_STRAIN_RATIO,
@@ -425,7 +425,7 @@ mesh = "{mesh_ref}"
 kind = "deformable"       # a PD body: particles, bonds, surface
 spacing = {spacing:e}     # grid spacing Δ (lattice spacing of the particles' median volume)
 horizon_factor = {m}      # horizon δ = m Δ
-# translate = [0.0, 0.0, 0.0]
+{second_order}# translate = [0.0, 0.0, 0.0]
 # rotate = {{ axis = [0.0, 0.0, 1.0], angle_deg = 0.0 }}
 # scale = 1.0
 [body.material]
@@ -454,6 +454,17 @@ master = "plane"
         case_path = out.join("case.toml").display(),
         spacing = case.particles.spacing,
         m = case.horizon_factor,
+        second_order = match case.second_order {
+            SecondOrder::AllNodes => {
+                "second_order = \"all-nodes\"  # every node of a tet10 a particle\n"
+            }
+            SecondOrder::Corners
+                if case.mesh.solids().any(|e| e.kind == ElementKind::Tet10) =>
+            {
+                "# second_order = \"all-nodes\"  # every node of a tet10 a particle: 8x the particles, half the spacing\n"
+            }
+            SecondOrder::Corners => "",
+        },
         nu = SKELETON_POISSON,
         cx = centre[0],
         cy = centre[1],

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use pdcontact::case::{CaseOptions, DEFAULT_HORIZON_FACTOR};
+use pdcontact::case::{CaseOptions, SecondOrder, DEFAULT_HORIZON_FACTOR};
 use pdcontact::importers::{Format, MeshSummary};
 use pdcontact::parallel::Comm;
 use pdcontact::run::{run_scene, RunOptions};
@@ -50,6 +50,10 @@ enum Command {
         /// Horizon factor m (δ = m·Δ).
         #[arg(long, default_value_t = DEFAULT_HORIZON_FACTOR)]
         horizon_factor: f64,
+        /// Which nodes of a second-order mesh become particles: its corners (default), or all
+        /// of them (each tet10 cut into eight tet4 at its mid-edge nodes).
+        #[arg(long, value_enum, value_name = "NODES")]
+        second_order: Option<SecondOrderArg>,
         /// Force the mesh format: cdb, msh or inp.
         #[arg(long, value_parser = parse_format)]
         format: Option<Format>,
@@ -100,6 +104,11 @@ enum Command {
         /// see docs/VALIDATION.md.
         #[arg(long, value_name = "M", requires = "mesh")]
         horizon_factor: Option<f64>,
+        /// With --mesh: which nodes of a second-order mesh become particles: its corners
+        /// (default), or all of them (each tet10 cut into eight tet4 at its mid-edge nodes;
+        /// about eight times the particles, twice the spacings across the contact).
+        #[arg(long, value_enum, value_name = "NODES", requires = "mesh")]
+        second_order: Option<SecondOrderArg>,
         /// Output folder (one subfolder per run).
         #[arg(short, long, default_value = "pdcontact-validate")]
         output: PathBuf,
@@ -207,6 +216,22 @@ impl ProblemArg {
             ProblemArg::Roller => vec![Problem::Roller],
             ProblemArg::Punch => vec![Problem::Punch],
             ProblemArg::All => vec![Problem::Sphere, Problem::Roller, Problem::Punch],
+        }
+    }
+}
+
+/// `validate --second-order`: which nodes of a second-order mesh become particles.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum SecondOrderArg {
+    Corners,
+    AllNodes,
+}
+
+impl From<SecondOrderArg> for SecondOrder {
+    fn from(s: SecondOrderArg) -> SecondOrder {
+        match s {
+            SecondOrderArg::Corners => SecondOrder::Corners,
+            SecondOrderArg::AllNodes => SecondOrder::AllNodes,
         }
     }
 }
@@ -326,12 +351,14 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             output,
             spacing,
             horizon_factor,
+            second_order,
             format,
             json,
         } => {
             let options = CaseOptions {
                 spacing,
                 horizon_factor,
+                second_order: second_order.map(Into::into).unwrap_or_default(),
                 ..Default::default()
             };
             let (_, summary) = pdcontact::convert::convert(&mesh, format, &output, options)?;
@@ -363,6 +390,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             format,
             contact_ratio,
             horizon_factor,
+            second_order,
             output,
             json,
             quiet,
@@ -382,7 +410,10 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                     format,
                     problem,
                     contact_ratio,
-                    horizon_factor,
+                    &pdcontact::studies::user_mesh::BodyChoices {
+                        horizon_factor,
+                        second_order: second_order.map(Into::into).unwrap_or_default(),
+                    },
                     &output,
                     quiet,
                 )?;

@@ -125,6 +125,36 @@ fn coarse_tet_sphere_under_a_small_load_warns_with_the_hertz_numbers() {
     );
 }
 
+/// The stored tet10 sphere under the demo's load (a = 0.15 m): with its corners alone the
+/// contact spans under 5 spacings and the warning names the mid-edge nodes; with
+/// `second_order = "all-nodes"` the tributary spacing on the surface halves (four triangles
+/// per face) and the hint goes.
+#[test]
+fn tet10_corners_warning_names_the_mid_edge_nodes() {
+    let mesh = repo("meshes/sphere_tet10_h008.msh");
+    let load = 4.8e6;
+    let corners = only(resolution_of(&plane_scene(&mesh, -1.0, load)));
+    assert!(corners.tet10_corners);
+    let w = corners.resolution_warning().expect("under 5 spacings");
+    assert!(w.contains("second_order = \"all-nodes\""), "{w}");
+    let all_nodes = plane_scene(&mesh, -1.0, load).replace(
+        "name = \"ball\"\n",
+        "name = \"ball\"\nsecond_order = \"all-nodes\"\n",
+    );
+    let all = only(resolution_of(&all_nodes));
+    assert!(!all.tet10_corners);
+    let ratio = corners.spacing / all.spacing;
+    assert!(
+        (1.9..2.1).contains(&ratio),
+        "surface spacing {} against {}",
+        all.spacing,
+        corners.spacing
+    );
+    assert!(!all
+        .resolution_warning()
+        .is_some_and(|w| w.contains("second_order")));
+}
+
 #[test]
 fn resolved_tet_sphere_under_a_resolved_load_does_not_warn() {
     // meshes/sphere_tet4_h007.msh with P = 3.84e7 N: a = 0.3 m, about 4.6 spacings.

@@ -18,6 +18,7 @@ pub mod inp;
 pub mod mesh;
 pub mod msh;
 pub mod quality;
+pub mod split;
 pub mod summary;
 mod text;
 
@@ -27,6 +28,7 @@ pub use error::{describe_found, ImportError, Location};
 pub use faces::{boundary_faces, face_corners, BoundaryFace, FaceSet};
 pub use mesh::{ElementKind, ElementRef, Format, Mesh, NamedSet, NodeIndex, SetKind, MISSING_NODE};
 pub use quality::quality_warnings;
+pub use split::split_tet10;
 pub use summary::MeshSummary;
 
 /// Reads a mesh file. The format is `format` if given, else guessed from the extension and the

@@ -349,6 +349,7 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                     .unwrap_or(CorrectionMethod::Balanced),
                 symmetry,
                 horizon: spec.horizon.unwrap_or_default(),
+                second_order: spec.second_order.unwrap_or_default(),
             };
             let case = PdCase::build(mesh, options).map_err(|e| match e {
                 Error::Input(msg) => {

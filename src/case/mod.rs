@@ -206,6 +206,31 @@ pub enum HorizonKind {
     Uniform,
 }
 
+/// Which nodes of a second-order mesh become particles (METHOD.md §1).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SecondOrder {
+    /// The corner nodes only: a tet10 is the tet4 of its corners (METHOD.md §1's default).
+    #[default]
+    Corners,
+    /// Every node of a tet10: each is cut at its mid-edge nodes into eight tet4
+    /// ([`pdcontact_importers::split_tet10`]), so the particles are all the mesh's nodes, at
+    /// half the spacing, and the boundary's mid-edge nodes, which gmsh puts on the curved
+    /// geometry, are particles and segment corners. Other second-order solids keep their
+    /// corners. Measured on gmsh's tet10 spheres: docs/VALIDATION.md, "Second-order meshes".
+    AllNodes,
+}
+
+impl SecondOrder {
+    /// The mesh whose corner nodes are the particles under this choice.
+    pub fn apply(self, mesh: Mesh) -> Mesh {
+        match self {
+            SecondOrder::Corners => mesh,
+            SecondOrder::AllNodes => pdcontact_importers::split_tet10(&mesh).unwrap_or(mesh),
+        }
+    }
+}
+
 /// Options of the discretisation.
 #[derive(Clone, Debug)]
 pub struct CaseOptions {
@@ -219,6 +244,8 @@ pub struct CaseOptions {
     pub symmetry: Vec<SymmetryPlane>,
     /// One horizon, or one per bond from the local spacing.
     pub horizon: HorizonKind,
+    /// Which nodes of a second-order mesh become particles.
+    pub second_order: SecondOrder,
 }
 
 impl Default for CaseOptions {
@@ -229,6 +256,7 @@ impl Default for CaseOptions {
             correction: CorrectionMethod::Balanced,
             symmetry: Vec::new(),
             horizon: HorizonKind::Local,
+            second_order: SecondOrder::Corners,
         }
     }
 }
@@ -267,6 +295,9 @@ pub struct PdCase {
     /// on an imported mesh), else `None` (Δ everywhere).
     pub local_spacing: Option<Vec<f64>>,
     pub horizon_factor: f64,
+    /// Which nodes of a second-order mesh are particles (`mesh` is the split mesh for
+    /// [`SecondOrder::AllNodes`]).
+    pub second_order: SecondOrder,
     pub bonds: BondList,
     pub surface: SurfaceDetection,
     pub correction: SurfaceCorrection,
@@ -287,6 +318,7 @@ impl PdCase {
         }
         let mut times = StageTimes::default();
         let t = Instant::now();
+        let mesh = options.second_order.apply(mesh);
         let particles = discretize(&mesh, options.spacing)?;
         times.discretize = t.elapsed().as_secs_f64();
         let spacing = particles.spacing;
@@ -393,6 +425,7 @@ impl PdCase {
             horizon,
             local_spacing,
             horizon_factor: options.horizon_factor,
+            second_order: options.second_order,
             bonds,
             surface,
             correction,

@@ -13,10 +13,12 @@ use self::domain::Domain;
 
 use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
 use crate::case::pairs::{pair_forces, PairKinematics};
+use crate::case::SecondOrder;
 use crate::contact::estimate::{resolve, ContactResolution, ContactSurface};
 use crate::contact::shortrange::ShortRangePass;
 use crate::contact::{default_radius, hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::error::Result;
+use crate::importers::ElementKind;
 use crate::math::{Vec3, NOT_A_PARTICLE};
 use crate::parallel::Comm;
 use crate::scene::{excerpt, Axis, BodyKind, ContactMethod, Kinematics, Scene};
@@ -164,6 +166,13 @@ impl Model {
                     &ContactSurface::of_body(&self.bodies[s]),
                     &ContactSurface::of_body(&self.bodies[m]),
                 );
+                let r = ContactResolution {
+                    tet10_corners: self.bodies[s].as_pd().is_some_and(|pd| {
+                        pd.case.second_order == SecondOrder::Corners
+                            && pd.case.mesh.solids().any(|e| e.kind == ElementKind::Tet10)
+                    }),
+                    ..r
+                };
                 // A two-pass pair's passes share its stiffness; a short-range pair has none.
                 match self.passes.iter().find(|p| p.slave == s && p.master == m) {
                     Some(p) => r.with_penalty(&p.law),

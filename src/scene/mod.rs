@@ -19,7 +19,7 @@ mod check;
 pub(crate) use check::{box_corner, memory_limit};
 
 use crate::case::correction::CorrectionMethod;
-use crate::case::HorizonKind;
+use crate::case::{HorizonKind, SecondOrder};
 use crate::error::{Error, Result};
 
 /// The whole scene file.
@@ -186,6 +186,9 @@ pub struct BodySpec {
     /// the local spacing of its particles, so that a mesh refined towards the contact is as
     /// fine there in the model; "uniform": δ = mΔ everywhere.
     pub horizon: Option<HorizonKind>,
+    /// Nodes of a second-order mesh that become particles: "corners" (default) or
+    /// "all-nodes" (each tet10 cut into eight tet4 at its mid-edge nodes).
+    pub second_order: Option<SecondOrder>,
     /// Bond kinematics: "finite" (default; stretch of the deformed bond, paper Eq. 26) or
     /// "small" (linearised: extension along the reference bond, for small-strain comparisons).
     #[serde(default)]

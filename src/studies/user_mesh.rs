@@ -28,9 +28,9 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use crate::case::discretize::{discretize, Discretization};
-use crate::case::DEFAULT_HORIZON_FACTOR;
+use crate::case::{SecondOrder, DEFAULT_HORIZON_FACTOR};
 use crate::error::{Error, Result};
-use crate::importers::{boundary_faces, Format, Mesh};
+use crate::importers::{boundary_faces, ElementKind, Format, Mesh};
 use crate::math::Vec3;
 use crate::output::analysis::e_star_rigid;
 use crate::studies::comparison::{run_case, ValidationRow};
@@ -318,18 +318,27 @@ fn vector(v: [f64; 3]) -> String {
     format!("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]))
 }
 
+/// What a user may set on the body of `validate --mesh`'s scene; the defaults are `run`'s.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyChoices {
+    /// The horizon factor m (METHOD.md §2: δ = mΔ, 3 by default).
+    pub horizon_factor: Option<f64>,
+    /// Which nodes of a second-order mesh become particles.
+    pub second_order: SecondOrder,
+}
+
 /// The validation case of `shape`, measured on the mesh at `mesh` (an absolute path), with
 /// the particle spacing `spacing` (for the table), loaded so that Hertz's contact radius (or
-/// half-width) is `ratio` times the body's radius; `horizon_factor` is the body's m when the
-/// user sets one (METHOD.md §2: δ = mΔ, 3 by default).
+/// half-width) is `ratio` times the body's radius; `body` holds what the user set on the body.
 pub fn mesh_case(
     mesh: &Path,
     format: Option<Format>,
     shape: &MeshShape,
     spacing: f64,
     ratio: f64,
-    horizon_factor: Option<f64>,
+    body: &BodyChoices,
 ) -> ValidationCase {
+    let horizon_factor = body.horizon_factor;
     let radius = shape.radius;
     let a = ratio * radius;
     let e_star = e_star_rigid(YOUNGS, POISSON);
@@ -388,6 +397,12 @@ pub fn mesh_case(
             )
         })
         .unwrap_or_default();
+    let second_order_line = match body.second_order {
+        SecondOrder::Corners => String::new(),
+        SecondOrder::AllNodes => {
+            "second_order = \"all-nodes\"     # every tet10 node a particle\n".to_string()
+        }
+    };
     let load_note = match problem {
         Problem::Roller => format!("P = {} N/m over the length", num(load)),
         _ => format!("P = {} N", num(load)),
@@ -406,7 +421,7 @@ every = 1000000
 [[body]]
 name = "{name}"
 mesh = {quoted}
-{format_line}{horizon_line}kinematics = "small"         # Hertz theory is small-strain: compare like with like
+{format_line}{horizon_line}{second_order_line}kinematics = "small"         # Hertz theory is small-strain: compare like with like
 [body.material]
 youngs_modulus = {e:e}
 poisson_ratio = {POISSON}
@@ -468,16 +483,17 @@ keep = "negative"
 
 /// Reads the mesh at `path`, measures the shape, runs the Hertz scene with a contact radius
 /// (or half-width) of `ratio` times the body's radius into `folder/<sphere|roller>-mesh/` and
-/// compares it with theory. `horizon_factor`: the body's m where the user sets one.
+/// compares it with theory. `body`: what the user sets on the body.
 pub fn validate_mesh(
     path: &Path,
     format: Option<Format>,
     problem: Problem,
     ratio: f64,
-    horizon_factor: Option<f64>,
+    body: &BodyChoices,
     folder: &Path,
     quiet: bool,
 ) -> Result<MeshValidation> {
+    let horizon_factor = body.horizon_factor;
     if problem == Problem::Punch {
         return Err(Error::input(
             "validate --mesh runs the Hertz sphere or roller: use --case sphere or --case roller",
@@ -504,6 +520,9 @@ pub fn validate_mesh(
     };
     let mesh = crate::importers::read_format(path, &data, format_used)?;
     drop(data);
+    let corners_of_tet10 = body.second_order == SecondOrder::Corners
+        && mesh.solids().any(|e| e.kind == ElementKind::Tet10);
+    let mesh = body.second_order.apply(mesh);
     let particles = discretize(&mesh, None)?;
     let spacing = particles.spacing;
     let shape = measure(&mesh, path, problem, 1e-6 * spacing)?;
@@ -516,16 +535,14 @@ pub fn validate_mesh(
         warnings.push(format!(
             "the contact spans only {contact_spacings:.1} spacings (a/Δ < {MIN_CONTACT_SPACINGS}); expect larger errors; refine the mesh near the contact (on tets, --horizon-factor 2.5 narrows a contact that the default horizon makes too wide: docs/VALIDATION.md)"
         ));
+        if corners_of_tet10 {
+            warnings.push(
+                "the mesh is tet10 and its corners alone are the particles: --second-order all-nodes makes every node a particle (eight tet4 per tet10), about twice the spacings across the contact".to_string(),
+            );
+        }
     }
     let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
-    let case = mesh_case(
-        &absolute,
-        format,
-        &shape,
-        contact_spacing,
-        ratio,
-        horizon_factor,
-    );
+    let case = mesh_case(&absolute, format, &shape, contact_spacing, ratio, body);
     if !quiet {
         eprintln!(
             "{} on {}: R = {:.4} m, Δ = {contact_spacing:.4} m, a/Δ = {contact_spacings:.1} ...",
