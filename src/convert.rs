@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use pdcontact_importers::{read_path, ElementKind, Format, Mesh, SetKind};
+use pdcontact_importers::{has_splittable, read_path, Format, Mesh, SetKind};
 use serde::Serialize;
 
 use crate::case::segments::MasterSegment;
@@ -456,12 +456,12 @@ master = "plane"
         m = case.horizon_factor,
         second_order = match case.second_order {
             SecondOrder::AllNodes => {
-                "second_order = \"all-nodes\"  # every node of a tet10 a particle\n"
+                "second_order = \"all-nodes\"  # every node of a tet10 or hex20 a particle\n"
             }
             SecondOrder::Corners
-                if case.mesh.solids().any(|e| e.kind == ElementKind::Tet10) =>
+                if has_splittable(&case.mesh) =>
             {
-                "# second_order = \"all-nodes\"  # every node of a tet10 a particle: 8x the particles, half the spacing\n"
+                "# second_order = \"all-nodes\"  # every node of a tet10 or hex20 a particle: 7-8x the particles, half the spacing\n"
             }
             SecondOrder::Corners => "",
         },

@@ -51,7 +51,7 @@ enum Command {
         #[arg(long, default_value_t = DEFAULT_HORIZON_FACTOR)]
         horizon_factor: f64,
         /// Which nodes of a second-order mesh become particles: its corners (default), or all
-        /// of them (each tet10 cut into eight tet4 at its mid-edge nodes).
+        /// of them (each tet10 cut into eight tet4, each hex20 into eight hex8).
         #[arg(long, value_enum, value_name = "NODES")]
         second_order: Option<SecondOrderArg>,
         /// Force the mesh format: cdb, msh or inp.
@@ -105,8 +105,8 @@ enum Command {
         #[arg(long, value_name = "M", requires = "mesh")]
         horizon_factor: Option<f64>,
         /// With --mesh: which nodes of a second-order mesh become particles: its corners
-        /// (default), or all of them (each tet10 cut into eight tet4 at its mid-edge nodes;
-        /// about eight times the particles, twice the spacings across the contact).
+        /// (default), or all of them (each tet10 cut into eight tet4, each hex20 into eight
+        /// hex8; 7-8 times the particles, twice the spacings across the contact).
         #[arg(long, value_enum, value_name = "NODES", requires = "mesh")]
         second_order: Option<SecondOrderArg>,
         /// Output folder (one subfolder per run).

@@ -134,7 +134,7 @@ fn tet10_corners_warning_names_the_mid_edge_nodes() {
     let mesh = repo("meshes/sphere_tet10_h008.msh");
     let load = 4.8e6;
     let corners = only(resolution_of(&plane_scene(&mesh, -1.0, load)));
-    assert!(corners.tet10_corners);
+    assert!(corners.second_order_corners);
     let w = corners.resolution_warning().expect("under 5 spacings");
     assert!(w.contains("second_order = \"all-nodes\""), "{w}");
     let all_nodes = plane_scene(&mesh, -1.0, load).replace(
@@ -142,7 +142,7 @@ fn tet10_corners_warning_names_the_mid_edge_nodes() {
         "name = \"ball\"\nsecond_order = \"all-nodes\"\n",
     );
     let all = only(resolution_of(&all_nodes));
-    assert!(!all.tet10_corners);
+    assert!(!all.second_order_corners);
     let ratio = corners.spacing / all.spacing;
     assert!(
         (1.9..2.1).contains(&ratio),

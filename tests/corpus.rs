@@ -149,16 +149,18 @@ fn corpus_inp() {
     run_corpus("inp");
 }
 
-/// The tet10 of the corpus (ANSYS SOLID187, Gmsh, Abaqus C3D10), cut into eight tet4 at their
-/// mid-edge nodes (`second_order = "all-nodes"`): every child is positively oriented, the
-/// children of a tet10 tile it (each child face is shared with a sibling or lies on one of the
-/// parent's faces, and each parent face is covered by four child faces), and the particles of
-/// the case are exactly the nodes of the solids, mid-edge nodes included, where a tet10 gives
-/// all ten (ANSYS may leave one out; such a tet10 keeps its corners).
+/// The tet10 and hex20 of the corpus (ANSYS SOLID187/186, Gmsh, Abaqus C3D10/C3D20) cut into
+/// eight first-order elements on all their nodes (`second_order = "all-nodes"`): every child
+/// has a positive volume, the children of an element tile it (each child face is shared with
+/// one sibling or lies on one of the parent's faces, which four child faces cover), and the
+/// particles of the case are the nodes of the solids, mid-edge nodes of the split elements
+/// included, plus the face and centre nodes added to each hex20 (ANSYS may leave a mid-edge
+/// node out; such an element keeps its corners).
 #[test]
-fn corpus_tet10_split_on_all_their_nodes() {
+fn corpus_second_order_split_on_all_their_nodes() {
+    use pdcontact::case::discretize::element_volume;
     use pdcontact::case::{CaseOptions, PdCase, SecondOrder};
-    use pdcontact::importers::{split_tet10, ElementKind, MISSING_NODE};
+    use pdcontact::importers::{split_second_order, ElementKind, MISSING_NODE};
     use std::collections::{BTreeSet, HashMap};
     let Some(dir) = corpus_dir() else {
         eprintln!("../shared/corpus not present: corpus test skipped");
@@ -168,63 +170,96 @@ fn corpus_tet10_split_on_all_their_nodes() {
         &std::fs::read_to_string(dir.join("manifest.json")).expect("manifest readable"),
     )
     .expect("manifest is JSON");
+    // Faces of the first-order children, and of the parents by their corner slots and
+    // mid-edge slots (the conventions of `pdcontact::importers::mesh`).
+    const TET_FACES: [&[usize]; 4] = [&[0, 1, 2], &[0, 1, 3], &[1, 2, 3], &[0, 2, 3]];
+    const HEX_FACES: [&[usize]; 6] = [
+        &[0, 1, 2, 3],
+        &[4, 5, 6, 7],
+        &[0, 1, 5, 4],
+        &[1, 2, 6, 5],
+        &[2, 3, 7, 6],
+        &[3, 0, 4, 7],
+    ];
+    const TET10_FACES: [[usize; 6]; 4] = [
+        [0, 1, 2, 4, 5, 6],
+        [0, 1, 3, 4, 7, 8],
+        [1, 2, 3, 5, 8, 9],
+        [0, 2, 3, 6, 7, 9],
+    ];
+    const HEX20_FACES: [[usize; 8]; 6] = [
+        [0, 1, 2, 3, 8, 9, 10, 11],
+        [4, 5, 6, 7, 12, 13, 14, 15],
+        [0, 1, 5, 4, 8, 17, 12, 16],
+        [1, 2, 6, 5, 9, 18, 13, 17],
+        [2, 3, 7, 6, 10, 19, 14, 18],
+        [3, 0, 4, 7, 11, 16, 15, 19],
+    ];
+    let mut kinds = BTreeSet::new();
     let mut checked = 0;
     for entry in manifest["files"].as_array().expect("files list") {
-        if entry["expect"] != "ok" || entry["elements_3d"]["tet10"].as_u64().unwrap_or(0) == 0 {
+        let count = |k: &str| entry["elements_3d"][k].as_u64().unwrap_or(0);
+        if entry["expect"] != "ok" || count("tet10") + count("hex20") == 0 {
             continue;
         }
         let rel = entry["path"].as_str().expect("path");
         let mesh = read_path(&dir.join(rel), None).expect("an ok file reads");
-        let split = split_tet10(&mesh).expect("tet10 to split");
-        let c = &split.coords;
-        let volume6 = |t: &[u32]| {
-            let p = |k: usize| c[t[k] as usize];
-            let d = |k: usize| [0, 1, 2].map(|i| p(k)[i] - p(0)[i]);
-            let (a, b, e) = (d(1), d(2), d(3));
-            a[0] * (b[1] * e[2] - b[2] * e[1]) - a[1] * (b[0] * e[2] - b[2] * e[0])
-                + a[2] * (b[0] * e[1] - b[1] * e[0])
-        };
-        // Children in order, parent by parent: the split keeps element order.
+        let split = split_second_order(&mesh).expect("elements to split");
+        let original = mesh.node_count() as u32;
         let mut next = 0;
-        let mut complete = 0;
+        let mut added_by_hex = 0;
         for parent in mesh.elements() {
-            let whole = parent.kind == ElementKind::Tet10 && !parent.nodes.contains(&MISSING_NODE);
-            if !whole {
+            let cut = matches!(parent.kind, ElementKind::Tet10 | ElementKind::Hex20)
+                && !parent.nodes.contains(&MISSING_NODE);
+            if !cut {
                 assert_eq!(split.element(next).kind, parent.kind, "{rel}");
                 next += 1;
                 continue;
             }
-            complete += 1;
-            let children: Vec<&[u32]> = (next..next + 8).map(|e| split.element(e).nodes).collect();
-            next += 8;
+            kinds.insert(parent.kind.name());
+            let (child_kind, child_faces, parent_faces): (_, &[&[usize]], Vec<Vec<usize>>) =
+                match parent.kind {
+                    ElementKind::Tet10 => (
+                        ElementKind::Tet4,
+                        &TET_FACES,
+                        TET10_FACES.iter().map(|f| f.to_vec()).collect(),
+                    ),
+                    _ => (
+                        ElementKind::Hex8,
+                        &HEX_FACES,
+                        HEX20_FACES.iter().map(|f| f.to_vec()).collect(),
+                    ),
+                };
             let mut faces: HashMap<BTreeSet<u32>, usize> = HashMap::new();
-            for t in &children {
-                assert_eq!(t.len(), 4);
+            for e in next..next + 8 {
+                let child = split.element(e);
+                assert_eq!(child.kind, child_kind, "{rel}");
+                let v = element_volume(child.kind, child.nodes, &split.coords);
                 assert!(
-                    volume6(t) > 0.0,
-                    "{rel}: element {} has an inverted child",
+                    v > 0.0,
+                    "{rel}: element {} has a child of volume {v}",
                     parent.id
                 );
-                for skip in 0..4 {
-                    let f: BTreeSet<u32> = (0..4).filter(|&k| k != skip).map(|k| t[k]).collect();
-                    *faces.entry(f).or_default() += 1;
+                for f in child_faces {
+                    *faces
+                        .entry(f.iter().map(|&k| child.nodes[k]).collect())
+                        .or_default() += 1;
                 }
             }
-            // The parent's faces, each with its three mid-edge nodes (tet10 convention).
-            let n = parent.nodes;
-            let parent_faces: [[usize; 6]; 4] = [
-                [0, 1, 2, 4, 5, 6],
-                [0, 1, 3, 4, 7, 8],
-                [1, 2, 3, 5, 8, 9],
-                [0, 2, 3, 6, 7, 9],
-            ];
-            let mut on_face = [0; 4];
+            next += 8;
+            let mut on_face = vec![0; parent_faces.len()];
+            let mut added: BTreeSet<u32> = BTreeSet::new();
             for (f, count) in &faces {
-                let host = parent_faces
-                    .iter()
-                    .position(|pf| f.iter().all(|v| pf.iter().any(|&k| n[k] == *v)));
+                added.extend(f.iter().filter(|&&v| v >= original));
+                let own: Vec<u32> = f.iter().copied().filter(|&v| v < original).collect();
+                let host = parent_faces.iter().position(|pf| {
+                    own.len() + 1 >= f.len()
+                        && own
+                            .iter()
+                            .all(|v| pf.iter().any(|&k| parent.nodes[k] == *v))
+                });
                 match (count, host) {
-                    (2, None) => {}
+                    (2, _) => {}
                     (1, Some(h)) => on_face[h] += 1,
                     _ => panic!(
                         "{rel}: element {}: child face {f:?} seen {count} times",
@@ -232,24 +267,39 @@ fn corpus_tet10_split_on_all_their_nodes() {
                     ),
                 }
             }
-            assert_eq!(on_face, [4; 4], "{rel}: element {}", parent.id);
+            assert!(
+                on_face.iter().all(|&n| n == 4),
+                "{rel}: element {}: {on_face:?}",
+                parent.id
+            );
+            if parent.kind == ElementKind::Hex20 {
+                // Six face nodes (some shared with a neighbour) and a centre.
+                assert_eq!(added.len(), 7, "{rel}: element {}", parent.id);
+                added_by_hex += 1;
+            }
         }
         assert_eq!(next, split.element_count(), "{rel}");
-        // The particles: every node of a solid, mid-edge nodes of whole tet10 included.
-        let mut expected: BTreeSet<u32> = BTreeSet::new();
+        // The particles: the solids' nodes, mid-edge nodes of the split elements included,
+        // and every added node.
+        let mut expected: BTreeSet<u32> = (original..split.node_count() as u32).collect();
         for e in mesh.solids() {
-            let whole = e.kind == ElementKind::Tet10 && !e.nodes.contains(&MISSING_NODE);
-            let used = if whole { e.nodes } else { e.corners() };
-            expected.extend(used.iter().copied());
+            let cut = matches!(e.kind, ElementKind::Tet10 | ElementKind::Hex20)
+                && !e.nodes.contains(&MISSING_NODE);
+            expected.extend(if cut { e.nodes } else { e.corners() }.iter().copied());
         }
+        assert!(
+            added_by_hex == 0 || split.node_count() as u32 > original,
+            "{rel}"
+        );
         let options = CaseOptions {
             second_order: SecondOrder::AllNodes,
             ..Default::default()
         };
         let case = PdCase::build(mesh, options).expect("the case builds");
         let got: BTreeSet<u32> = case.particles.node.iter().copied().collect();
-        assert_eq!(got, expected, "{rel}: {complete} tet10 split");
+        assert_eq!(got, expected, "{rel}");
         checked += 1;
     }
-    assert!(checked >= 4, "{checked} corpus files with tet10");
+    assert!(checked >= 6, "{checked} corpus files with tet10 or hex20");
+    assert_eq!(kinds.len(), 2, "{kinds:?}");
 }

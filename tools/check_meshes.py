@@ -47,6 +47,7 @@ HEX_CORNERS = [(0, 1, 3, 4), (1, 2, 0, 5), (2, 3, 1, 6), (3, 0, 2, 7),
                (4, 7, 5, 0), (5, 4, 6, 1), (6, 5, 7, 2), (7, 6, 4, 3)]
 HEX_REF = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
                     [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], float)
+CORNERS_OF = {"tetra10": ("tetra", 4), "hexahedron20": ("hexahedron", 8), "hexahedron27": ("hexahedron", 8)}
 SOLIDS = {"hexahedron": ("hex8", HEX_EDGES, HEX_FACES), "tetra": ("tet4", TET_EDGES, TET_FACES)}
 NAMES = {"hexahedron": "hex8", "tetra": "tet4", "quad": "quad4", "triangle": "tri3",
          "wedge": "wedge6", "pyramid": "pyramid5", "line": "line2", "vertex": "point"}
@@ -129,14 +130,16 @@ def analyse(path):
 
     edges, per_elem, sj, vol, det, faces, solid_nodes = [], [], {}, 0.0, np.inf, {}, []
     for block in m.cells:
-        if block.type not in SOLIDS:
+        # Second-order solids are checked on their corners (the particles by default).
+        kind, corners = CORNERS_OF.get(block.type, (block.type, None))
+        if kind not in SOLIDS:
             if block.data.ndim == 2 and block.type in ("wedge", "pyramid"):
                 raise SystemExit(f"{path}: {block.type} elements are not checked here")
             continue
-        short, e_list, f_list = SOLIDS[block.type]
-        c = block.data
+        short, e_list, f_list = SOLIDS[kind]
+        c = block.data if corners is None else block.data[:, :corners]
         x = p[c]
-        s, v, d = (hex_metrics if block.type == "hexahedron" else tet_metrics)(x)
+        s, v, d = (hex_metrics if kind == "hexahedron" else tet_metrics)(x)
         sj[short] = min(sj.get(short, np.inf), s.min())
         out.setdefault("sj_below", {})[short] = out.get("sj_below", {}).get(short, 0) + int((s < 0.2).sum())
         vol += v.sum()

@@ -28,7 +28,7 @@ pub use error::{describe_found, ImportError, Location};
 pub use faces::{boundary_faces, face_corners, BoundaryFace, FaceSet};
 pub use mesh::{ElementKind, ElementRef, Format, Mesh, NamedSet, NodeIndex, SetKind, MISSING_NODE};
 pub use quality::quality_warnings;
-pub use split::split_tet10;
+pub use split::{has_splittable, split_second_order};
 pub use summary::MeshSummary;
 
 /// Reads a mesh file. The format is `format` if given, else guessed from the extension and the

@@ -213,11 +213,12 @@ pub enum SecondOrder {
     /// The corner nodes only: a tet10 is the tet4 of its corners (METHOD.md §1's default).
     #[default]
     Corners,
-    /// Every node of a tet10: each is cut at its mid-edge nodes into eight tet4
-    /// ([`pdcontact_importers::split_tet10`]), so the particles are all the mesh's nodes, at
-    /// half the spacing, and the boundary's mid-edge nodes, which gmsh puts on the curved
-    /// geometry, are particles and segment corners. Other second-order solids keep their
-    /// corners. Measured on gmsh's tet10 spheres: docs/VALIDATION.md, "Second-order meshes".
+    /// Every node of a tet10 or hex20: a tet10 is cut at its mid-edge nodes into eight tet4, a
+    /// hex20 into eight hex8 with a node added at the centre of each face and of the element
+    /// ([`pdcontact_importers::split_second_order`]). The particles are then all the mesh's
+    /// nodes, at half the spacing, and the boundary's mid-edge nodes, which gmsh puts on the
+    /// curved geometry, are particles and segment corners. Wedge15 and pyramid13 keep their
+    /// corners. Measured on gmsh's spheres: docs/VALIDATION.md, "Second-order meshes".
     AllNodes,
 }
 
@@ -226,7 +227,7 @@ impl SecondOrder {
     pub fn apply(self, mesh: Mesh) -> Mesh {
         match self {
             SecondOrder::Corners => mesh,
-            SecondOrder::AllNodes => pdcontact_importers::split_tet10(&mesh).unwrap_or(mesh),
+            SecondOrder::AllNodes => pdcontact_importers::split_second_order(&mesh).unwrap_or(mesh),
         }
     }
 }

@@ -18,7 +18,7 @@ use crate::contact::estimate::{resolve, ContactResolution, ContactSurface};
 use crate::contact::shortrange::ShortRangePass;
 use crate::contact::{default_radius, hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::error::Result;
-use crate::importers::ElementKind;
+use crate::importers::has_splittable;
 use crate::math::{Vec3, NOT_A_PARTICLE};
 use crate::parallel::Comm;
 use crate::scene::{excerpt, Axis, BodyKind, ContactMethod, Kinematics, Scene};
@@ -167,9 +167,9 @@ impl Model {
                     &ContactSurface::of_body(&self.bodies[m]),
                 );
                 let r = ContactResolution {
-                    tet10_corners: self.bodies[s].as_pd().is_some_and(|pd| {
+                    second_order_corners: self.bodies[s].as_pd().is_some_and(|pd| {
                         pd.case.second_order == SecondOrder::Corners
-                            && pd.case.mesh.solids().any(|e| e.kind == ElementKind::Tet10)
+                            && has_splittable(&pd.case.mesh)
                     }),
                     ..r
                 };

@@ -187,7 +187,8 @@ pub struct BodySpec {
     /// fine there in the model; "uniform": δ = mΔ everywhere.
     pub horizon: Option<HorizonKind>,
     /// Nodes of a second-order mesh that become particles: "corners" (default) or
-    /// "all-nodes" (each tet10 cut into eight tet4 at its mid-edge nodes).
+    /// "all-nodes" (each tet10 cut into eight tet4 at its mid-edge nodes, each hex20 into eight
+    /// hex8 with face and centre nodes added).
     pub second_order: Option<SecondOrder>,
     /// Bond kinematics: "finite" (default; stretch of the deformed bond, paper Eq. 26) or
     /// "small" (linearised: extension along the reference bond, for small-strain comparisons).

@@ -30,7 +30,7 @@ use serde::Serialize;
 use crate::case::discretize::{discretize, Discretization};
 use crate::case::{SecondOrder, DEFAULT_HORIZON_FACTOR};
 use crate::error::{Error, Result};
-use crate::importers::{boundary_faces, ElementKind, Format, Mesh};
+use crate::importers::{boundary_faces, Format, Mesh};
 use crate::math::Vec3;
 use crate::output::analysis::e_star_rigid;
 use crate::studies::comparison::{run_case, ValidationRow};
@@ -400,7 +400,8 @@ pub fn mesh_case(
     let second_order_line = match body.second_order {
         SecondOrder::Corners => String::new(),
         SecondOrder::AllNodes => {
-            "second_order = \"all-nodes\"     # every tet10 node a particle\n".to_string()
+            "second_order = \"all-nodes\"     # every node of a tet10 or hex20 a particle\n"
+                .to_string()
         }
     };
     let load_note = match problem {
@@ -520,8 +521,8 @@ pub fn validate_mesh(
     };
     let mesh = crate::importers::read_format(path, &data, format_used)?;
     drop(data);
-    let corners_of_tet10 = body.second_order == SecondOrder::Corners
-        && mesh.solids().any(|e| e.kind == ElementKind::Tet10);
+    let corners_of_second_order =
+        body.second_order == SecondOrder::Corners && crate::importers::has_splittable(&mesh);
     let mesh = body.second_order.apply(mesh);
     let particles = discretize(&mesh, None)?;
     let spacing = particles.spacing;
@@ -535,9 +536,9 @@ pub fn validate_mesh(
         warnings.push(format!(
             "the contact spans only {contact_spacings:.1} spacings (a/Δ < {MIN_CONTACT_SPACINGS}); expect larger errors; refine the mesh near the contact (on tets, --horizon-factor 2.5 narrows a contact that the default horizon makes too wide: docs/VALIDATION.md)"
         ));
-        if corners_of_tet10 {
+        if corners_of_second_order {
             warnings.push(
-                "the mesh is tet10 and its corners alone are the particles: --second-order all-nodes makes every node a particle (eight tet4 per tet10), about twice the spacings across the contact".to_string(),
+                "the mesh is second order (tet10 or hex20) and its corners alone are the particles: --second-order all-nodes makes every node a particle (each element cut into eight), about twice the spacings across the contact".to_string(),
             );
         }
     }

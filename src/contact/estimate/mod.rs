@@ -234,9 +234,9 @@ pub struct ContactResolution {
     /// How far the pair's penalty lets a particle sink at the Hertz peak, where the estimate
     /// and the pair's contact law give it ([`ContactResolution::with_penalty`]).
     pub penalty: Option<PenaltyCompliance>,
-    /// The slave is meshed in tet10 and only their corners are particles
+    /// The slave is meshed in tet10 or hex20 and only their corners are particles
     /// (`second_order = "corners"`): the warning on few spacings names the mid-edge nodes.
-    pub tet10_corners: bool,
+    pub second_order_corners: bool,
 }
 
 /// The penetration a Hertz penalty (Eq. 23) allows under the estimated contact, against the
@@ -275,8 +275,8 @@ impl ContactResolution {
                 n,
                 sig(self.spacing),
                 sig(e.radius / RESOLVED_SPACINGS),
-            ) + if self.tet10_corners {
-                "; the mesh is tet10 and its corners alone are particles: second_order = \"all-nodes\" in the body makes every node one, about twice the spacings across the contact"
+            ) + if self.second_order_corners {
+                "; the mesh is second order (tet10 or hex20) and its corners alone are particles: second_order = \"all-nodes\" in the body makes every node one, about twice the spacings across the contact"
             } else {
                 ""
             }
@@ -502,7 +502,7 @@ pub fn resolve(slave: &ContactSurface, master: &ContactSurface) -> ContactResolu
         area_particles: areas.len(),
         area_radius,
         penalty: None,
-        tet10_corners: false,
+        second_order_corners: false,
     }
 }
 
