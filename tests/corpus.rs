@@ -282,9 +282,11 @@ fn corpus_second_order_split_on_all_their_nodes() {
         // The particles: the solids' nodes, mid-edge nodes of the split elements included,
         // and every added node.
         let mut expected: BTreeSet<u32> = (original..split.node_count() as u32).collect();
+        let mut kept = 0;
         for e in mesh.solids() {
             let cut = matches!(e.kind, ElementKind::Tet10 | ElementKind::Hex20)
                 && !e.nodes.contains(&MISSING_NODE);
+            kept += usize::from(!cut && e.kind != e.kind.linear());
             expected.extend(if cut { e.nodes } else { e.corners() }.iter().copied());
         }
         assert!(
@@ -298,6 +300,15 @@ fn corpus_second_order_split_on_all_their_nodes() {
         let case = PdCase::build(mesh, options).expect("the case builds");
         let got: BTreeSet<u32> = case.particles.node.iter().copied().collect();
         assert_eq!(got, expected, "{rel}");
+        // Second-order elements left whole are named in the warnings `run` prints.
+        let said = format!("{kept} second-order elements keep their corners only");
+        let warned = case.mesh.warnings.iter().any(|w| w.contains(&said));
+        assert_eq!(
+            warned,
+            kept > 0,
+            "{rel}: {kept} kept, {:?}",
+            case.mesh.warnings
+        );
         checked += 1;
     }
     assert!(checked >= 6, "{checked} corpus files with tet10 or hex20");

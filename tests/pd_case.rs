@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use pdcontact::body::{Material, PdBody};
-use pdcontact::case::{CaseOptions, HorizonKind, PdCase};
+use pdcontact::case::{CaseOptions, HorizonKind, PdCase, SecondOrder};
 use pdcontact::importers::read_path;
 use pdcontact::math::Vec3;
 
@@ -145,4 +145,31 @@ fn surface_correction_is_bounded_where_it_cannot_balance() {
     let beam = case("cdb/HexBeam.cdb");
     assert_eq!(beam.correction.unbalanced, 0);
     assert!(beam.correction.max_energy_error < 0.0101);
+}
+
+/// `second_order = "all-nodes"` on a first-order mesh changes nothing and says so.
+#[test]
+fn all_nodes_on_a_tet4_mesh_says_it_has_no_effect() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/sphere_tet4.msh");
+    let mesh = read_path(&path, None).expect("stored mesh");
+    let options = CaseOptions {
+        second_order: SecondOrder::AllNodes,
+        ..Default::default()
+    };
+    let all = PdCase::build(mesh, options).expect("valid mesh");
+    let corners = sphere_case("meshes/sphere_tet4.msh");
+    assert_eq!(all.particles.node, corners.particles.node);
+    assert!(
+        all.mesh
+            .warnings
+            .iter()
+            .any(|w| w.contains("has no effect")),
+        "{:?}",
+        all.mesh.warnings
+    );
+    assert!(!corners
+        .mesh
+        .warnings
+        .iter()
+        .any(|w| w.contains("second_order")));
 }

@@ -223,11 +223,30 @@ pub enum SecondOrder {
 }
 
 impl SecondOrder {
-    /// The mesh whose corner nodes are the particles under this choice.
+    /// The mesh whose corner nodes are the particles under this choice. Where `AllNodes` leaves
+    /// second-order elements whole (none to cut, or wedge15, pyramid13, a missing mid-edge
+    /// node), the mesh's warnings say so: `run` prints them.
     pub fn apply(self, mesh: Mesh) -> Mesh {
         match self {
             SecondOrder::Corners => mesh,
-            SecondOrder::AllNodes => pdcontact_importers::split_second_order(&mesh).unwrap_or(mesh),
+            SecondOrder::AllNodes => match pdcontact_importers::split_second_order(&mesh) {
+                Some(mut split) => {
+                    let kept = split.solids().filter(|e| e.kind != e.kind.linear()).count();
+                    if kept > 0 {
+                        split.warnings.push(format!(
+                            "second_order = \"all-nodes\": {kept} second-order elements keep their corners only (wedge15 and pyramid13 are not cut, nor an element whose file leaves out a mid-edge node)"
+                        ));
+                    }
+                    split
+                }
+                None => {
+                    let mut mesh = mesh;
+                    mesh.warnings.push(
+                        "second_order = \"all-nodes\" has no effect: the mesh has no tet10 or hex20 with all their nodes, so its corners are the particles as before".to_string(),
+                    );
+                    mesh
+                }
+            },
         }
     }
 }
