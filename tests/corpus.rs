@@ -14,6 +14,14 @@ fn corpus_dir() -> Option<PathBuf> {
     dir.join("manifest.json").exists().then_some(dir)
 }
 
+/// The corpus's `manifest.json`.
+fn manifest(dir: &Path) -> Value {
+    serde_json::from_str(
+        &std::fs::read_to_string(dir.join("manifest.json")).expect("manifest readable"),
+    )
+    .expect("manifest is JSON")
+}
+
 fn close(a: f64, b: f64, scale: f64) -> bool {
     (a - b).abs() <= 1e-9 * b.abs().max(scale).max(1e-300)
 }
@@ -77,10 +85,7 @@ fn run_corpus(format: &str) {
         eprintln!("../shared/corpus not present: corpus test skipped");
         return;
     };
-    let manifest: Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.join("manifest.json")).expect("manifest readable"),
-    )
-    .expect("manifest is JSON");
+    let manifest = manifest(&dir);
     let mut failures = Vec::new();
     let mut checked = 0;
     for entry in manifest["files"].as_array().expect("files list") {
@@ -166,10 +171,7 @@ fn corpus_second_order_split_on_all_their_nodes() {
         eprintln!("../shared/corpus not present: corpus test skipped");
         return;
     };
-    let manifest: Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.join("manifest.json")).expect("manifest readable"),
-    )
-    .expect("manifest is JSON");
+    let manifest = manifest(&dir);
     // Faces of the first-order children, and of the parents by their corner slots and
     // mid-edge slots (the conventions of `pdcontact::importers::mesh`).
     const TET_FACES: [&[usize]; 4] = [&[0, 1, 2], &[0, 1, 3], &[1, 2, 3], &[0, 2, 3]];

@@ -33,6 +33,25 @@ use std::collections::HashMap;
 /// Stand-in for a mid-side node the file does not give (ANSYS writes node number 0).
 pub const MISSING_NODE: u32 = u32::MAX;
 
+/// The corners of each tet10 mid-edge node 4..9 (module documentation).
+pub const TET10_EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
+
+/// The corners of each hex20 mid-edge node 8..19 (module documentation).
+pub const HEX20_EDGES: [(usize, usize); 12] = [
+    (0, 1),
+    (1, 2),
+    (2, 3),
+    (3, 0),
+    (4, 5),
+    (5, 6),
+    (6, 7),
+    (7, 4),
+    (0, 4),
+    (1, 5),
+    (2, 6),
+    (3, 7),
+];
+
 /// The file format a mesh came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Format {

@@ -19,11 +19,7 @@
 
 use std::collections::HashMap;
 
-use crate::mesh::{ElementKind, Mesh, MISSING_NODE};
-
-/// Mid-edge slot of edge `(a, b)` in the tet10 convention of [`crate::mesh`]:
-/// 4..9 on (0,1)(1,2)(2,0)(0,3)(1,3)(2,3).
-const EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
+use crate::mesh::{ElementKind, Mesh, HEX20_EDGES, MISSING_NODE};
 
 /// The three pairs of opposite vertices of the middle octahedron, as tet10 slots: the
 /// mid-edges of opposite tet edges ((0,1)-(2,3), (1,2)-(0,3), (2,0)-(1,3)).
@@ -45,19 +41,14 @@ fn distance2(coords: &[[f64; 3]], a: u32, b: u32) -> f64 {
 
 /// The eight tet4 of a tet10 with nodes `n` (corners first), each oriented as its parent.
 pub fn split_tet10_nodes(coords: &[[f64; 3]], n: &[u32]) -> [[u32; 4]; 8] {
-    let m = |a: usize, b: usize| {
-        let k = EDGES
-            .iter()
-            .position(|&e| e == (a, b) || e == (b, a))
-            .expect("an edge of the tetrahedron");
-        n[4 + k]
-    };
+    // Mid-edge slots (TET10_EDGES): 4 (0,1), 5 (1,2), 6 (2,0), 7 (0,3), 8 (1,3), 9 (2,3).
+    let (m01, m12, m02, m03, m13, m23) = (n[4], n[5], n[6], n[7], n[8], n[9]);
     let mut out = [[0u32; 4]; 8];
     // The corners: the parent scaled by ½ about each vertex keeps its orientation.
-    out[0] = [n[0], m(0, 1), m(0, 2), m(0, 3)];
-    out[1] = [m(0, 1), n[1], m(1, 2), m(1, 3)];
-    out[2] = [m(0, 2), m(1, 2), n[2], m(2, 3)];
-    out[3] = [m(0, 3), m(1, 3), m(2, 3), n[3]];
+    out[0] = [n[0], m01, m02, m03];
+    out[1] = [m01, n[1], m12, m13];
+    out[2] = [m02, m12, n[2], m23];
+    out[3] = [m03, m13, m23, n[3]];
     // The octahedron: four tets around its shortest diagonal (p, q); the other four vertices,
     // two opposite pairs (a, a') and (b, b'), make the ring a, b, a', b' around it.
     let (diagonal, _) = OPPOSITE
@@ -81,23 +72,6 @@ pub fn split_tet10_nodes(coords: &[[f64; 3]], n: &[u32]) -> [[u32; 4]; 8] {
     }
     out
 }
-
-/// Hex20 mid-edge slots 8..19 on edges (0,1)(1,2)(2,3)(3,0) (4,5)(5,6)(6,7)(7,4) (0,4)(1,5)
-/// (2,6)(3,7) (the convention of [`crate::mesh`]).
-const HEX_EDGES: [(usize, usize); 12] = [
-    (0, 1),
-    (1, 2),
-    (2, 3),
-    (3, 0),
-    (4, 5),
-    (5, 6),
-    (6, 7),
-    (7, 4),
-    (0, 4),
-    (1, 5),
-    (2, 6),
-    (3, 7),
-];
 
 /// Hex8 corners in the parametric cube `{0, 2}³` (bottom 0-1-2-3, top 4-7 above it).
 const HEX_CORNERS: [[usize; 3]; 8] = [
@@ -130,13 +104,19 @@ impl HexNodes {
     }
 
     /// The 27 grid nodes of hex20 `n` (corners first, then mid-edges), creating the face
-    /// and centre nodes.
-    fn grid_nodes(&mut self, out: &mut Mesh, n: &[u32]) -> [u32; 27] {
+    /// and centre nodes; each node created goes to `added` with the nodes that decide its set
+    /// membership (a face node: its face's eight; the centre: all twenty).
+    fn grid_nodes(
+        &mut self,
+        out: &mut Mesh,
+        n: &[u32],
+        added: &mut Vec<(u32, Vec<u32>)>,
+    ) -> [u32; 27] {
         let mut g = [u32::MAX; 27];
         for (k, c) in HEX_CORNERS.iter().enumerate() {
             g[grid(*c)] = n[k];
         }
-        for (k, &(a, b)) in HEX_EDGES.iter().enumerate() {
+        for (k, &(a, b)) in HEX20_EDGES.iter().enumerate() {
             let mid = [0, 1, 2].map(|i| (HEX_CORNERS[a][i] + HEX_CORNERS[b][i]) / 2);
             g[grid(mid)] = n[8 + k];
         }
@@ -152,7 +132,7 @@ impl HexNodes {
                     .filter(|(_, c)| c[axis] == side)
                     .map(|(k, _)| n[k])
                     .collect();
-                let mids: Vec<u32> = HEX_EDGES
+                let mids: Vec<u32> = HEX20_EDGES
                     .iter()
                     .enumerate()
                     .filter(|(_, &(a, b))| {
@@ -171,6 +151,7 @@ impl HexNodes {
                         });
                         let v = self.add(out, p);
                         self.faces.insert(key, v);
+                        added.push((v, [corners, mids].concat()));
                         v
                     }
                 };
@@ -181,7 +162,9 @@ impl HexNodes {
             -0.25 * n[..8].iter().map(|&v| xyz(out, v)[i]).sum::<f64>()
                 + 0.25 * n[8..20].iter().map(|&v| xyz(out, v)[i]).sum::<f64>()
         });
-        g[grid([1, 1, 1])] = self.add(out, p);
+        let centre = self.add(out, p);
+        added.push((centre, n.to_vec()));
+        g[grid([1, 1, 1])] = centre;
         g
     }
 }
@@ -242,23 +225,7 @@ pub fn split_second_order(mesh: &Mesh) -> Option<Mesh> {
                 out.push_element(e.id, ElementKind::Tet4, &t);
             }
         } else {
-            let before = out.node_count() as u32;
-            let g = hex.grid_nodes(&mut out, e.nodes);
-            for v in before..out.node_count() as u32 {
-                // The centre holds all twenty; a face node its face's eight (corners first).
-                let owners = if v == out.node_count() as u32 - 1 {
-                    e.nodes.to_vec()
-                } else {
-                    let at = g.iter().position(|&x| x == v).expect("a grid node");
-                    let p = [at % 3, (at / 3) % 3, at / 9];
-                    let axis = (0..3).find(|&i| p[i] != 1).expect("a face node");
-                    (0..27)
-                        .filter(|&q| [q % 3, (q / 3) % 3, q / 9][axis] == p[axis] && q != at)
-                        .map(|q| g[q])
-                        .collect()
-                };
-                added.push((v, owners));
-            }
+            let g = hex.grid_nodes(&mut out, e.nodes, &mut added);
             for h in hex_children(&g) {
                 out.push_element(e.id, ElementKind::Hex8, &h);
             }
@@ -312,7 +279,7 @@ mod tests {
         for (k, c) in corners.iter().enumerate() {
             m.push_node(k as u64 + 1, *c);
         }
-        for (k, &(a, b)) in EDGES.iter().enumerate() {
+        for (k, &(a, b)) in crate::mesh::TET10_EDGES.iter().enumerate() {
             let mid = [0, 1, 2].map(|i| 0.5 * (corners[a][i] + corners[b][i]));
             m.push_node(5 + k as u64, mid);
         }
@@ -374,7 +341,7 @@ mod tests {
         for (k, c) in HEX_CORNERS.iter().enumerate() {
             m.push_node(k as u64 + 1, map(cube(*c)));
         }
-        for (k, &(u, v)) in HEX_EDGES.iter().enumerate() {
+        for (k, &(u, v)) in HEX20_EDGES.iter().enumerate() {
             let mid = [0, 1, 2].map(|i| (HEX_CORNERS[u][i] + HEX_CORNERS[v][i]) / 2);
             m.push_node(9 + k as u64, map(cube(mid)));
         }

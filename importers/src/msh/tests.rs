@@ -7,7 +7,7 @@ use proptest::prelude::*;
 use super::num::parse_f64;
 use super::read;
 use crate::error::{ImportError, Location};
-use crate::mesh::{ElementKind, Mesh, SetKind};
+use crate::mesh::{ElementKind, Mesh, SetKind, HEX20_EDGES, TET10_EDGES};
 
 fn ok(text: &[u8]) -> Mesh {
     match read(Path::new("t.msh"), text) {
@@ -571,24 +571,12 @@ fn gmsh_reference(code: u32) -> Vec<[f64; 3]> {
     }
 }
 
-/// Mid-edge nodes of the mesh convention (mesh.rs): (stored index, edge corners).
+/// Mid-edge nodes of the mesh convention (mesh.rs): (stored index, edge corners); tet10 and
+/// hex20 from the tables that `split` cuts by.
 fn convention_edges(kind: ElementKind) -> Vec<(usize, usize, usize)> {
     let edges: &[(usize, usize)] = match kind {
-        ElementKind::Hex20 => &[
-            (0, 1),
-            (1, 2),
-            (2, 3),
-            (3, 0),
-            (4, 5),
-            (5, 6),
-            (6, 7),
-            (7, 4),
-            (0, 4),
-            (1, 5),
-            (2, 6),
-            (3, 7),
-        ],
-        ElementKind::Tet10 => &[(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)],
+        ElementKind::Hex20 => &HEX20_EDGES,
+        ElementKind::Tet10 => &TET10_EDGES,
         ElementKind::Wedge15 => &[
             (0, 1),
             (1, 2),
