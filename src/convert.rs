@@ -425,7 +425,7 @@ mesh = "{mesh_ref}"
 kind = "deformable"       # a PD body: particles, bonds, surface
 spacing = {spacing:e}     # grid spacing Δ (lattice spacing of the particles' median volume)
 horizon_factor = {m}      # horizon δ = m Δ
-{second_order}# translate = [0.0, 0.0, 0.0]
+{second_order}{refine}# translate = [0.0, 0.0, 0.0]
 # rotate = {{ axis = [0.0, 0.0, 1.0], angle_deg = 0.0 }}
 # scale = 1.0
 [body.material]
@@ -464,6 +464,10 @@ master = "plane"
                 "# second_order = \"all-nodes\"  # every node of a tet10 or hex20 a particle: 7-8x the particles, half the spacing\n"
             }
             SecondOrder::Corners => "",
+        },
+        refine = match case.refine {
+            0 => "# refine = 1              # cut each tet and hex into eight at its edges' midpoints: about 7x the particles, half the spacing\n".to_string(),
+            n => format!("refine = {n}                # each tet and hex cut into eight at its edges' midpoints, {n} time(s)\n"),
         },
         nu = SKELETON_POISSON,
         cx = centre[0],

@@ -54,6 +54,10 @@ enum Command {
         /// of them (each tet10 cut into eight tet4, each hex20 into eight hex8).
         #[arg(long, value_enum, value_name = "NODES")]
         second_order: Option<SecondOrderArg>,
+        /// Cut every tet and hex into eight at its edges' midpoints, N times, before the nodes
+        /// become particles (about seven times the particles per level, at most 3).
+        #[arg(long, value_name = "N", default_value_t = 0)]
+        refine: u32,
         /// Force the mesh format: cdb, msh or inp.
         #[arg(long, value_parser = parse_format)]
         format: Option<Format>,
@@ -109,6 +113,11 @@ enum Command {
         /// hex8; 7-8 times the particles, twice the spacings across the contact).
         #[arg(long, value_enum, value_name = "NODES", requires = "mesh")]
         second_order: Option<SecondOrderArg>,
+        /// With --mesh: cut every tet and hex into eight at its edges' midpoints, N times,
+        /// before the nodes become particles (twice the spacings across the contact per level,
+        /// about seven times the particles; written into the scene).
+        #[arg(long, value_name = "N", default_value_t = 0, requires = "mesh")]
+        refine: u32,
         /// Output folder (one subfolder per run).
         #[arg(short, long, default_value = "pdcontact-validate")]
         output: PathBuf,
@@ -352,6 +361,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             spacing,
             horizon_factor,
             second_order,
+            refine,
             format,
             json,
         } => {
@@ -359,6 +369,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 spacing,
                 horizon_factor,
                 second_order: second_order.map(Into::into).unwrap_or_default(),
+                refine,
                 ..Default::default()
             };
             let (_, summary) = pdcontact::convert::convert(&mesh, format, &output, options)?;
@@ -391,6 +402,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             contact_ratio,
             horizon_factor,
             second_order,
+            refine,
             output,
             json,
             quiet,
@@ -413,6 +425,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                     &pdcontact::studies::user_mesh::BodyChoices {
                         horizon_factor,
                         second_order: second_order.map(Into::into).unwrap_or_default(),
+                        refine,
                     },
                     &output,
                     quiet,

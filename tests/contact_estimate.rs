@@ -155,6 +155,32 @@ fn tet10_corners_warning_names_the_mid_edge_nodes() {
         .is_some_and(|w| w.contains("second_order")));
 }
 
+/// On a first-order tet mesh the same warning names `refine = 1`; with it in the body every
+/// tet is cut into eight, the spacing on the surface halves and the hint goes.
+#[test]
+fn tet4_warning_names_refine() {
+    let mesh = repo("meshes/sphere_tet4_h007.msh");
+    let load = 4.8e6;
+    let coarse = only(resolution_of(&plane_scene(&mesh, -1.0, load)));
+    assert!(coarse.refinable && !coarse.second_order_corners);
+    let w = coarse.resolution_warning().expect("under 5 spacings");
+    assert!(w.contains("refine = 1"), "{w}");
+    let refined_scene = plane_scene(&mesh, -1.0, load)
+        .replace("name = \"ball\"\n", "name = \"ball\"\nrefine = 1\n");
+    let refined = only(resolution_of(&refined_scene));
+    assert!(!refined.refinable);
+    let ratio = coarse.spacing / refined.spacing;
+    assert!(
+        (1.9..2.1).contains(&ratio),
+        "surface spacing {} against {}",
+        refined.spacing,
+        coarse.spacing
+    );
+    assert!(!refined
+        .resolution_warning()
+        .is_some_and(|w| w.contains("refine = 1")));
+}
+
 #[test]
 fn resolved_tet_sphere_under_a_resolved_load_does_not_warn() {
     // meshes/sphere_tet4_h007.msh with P = 3.84e7 N: a = 0.3 m, about 4.6 spacings.

@@ -316,3 +316,147 @@ fn corpus_second_order_split_on_all_their_nodes() {
     assert!(checked >= 6, "{checked} corpus files with tet10 or hex20");
     assert_eq!(kinds.len(), 2, "{kinds:?}");
 }
+
+/// Every ok corpus file cut once at its edges' midpoints (`refine = 1`): each tet and hex into
+/// eight, the volume of the solids unchanged, no child inverted where its parent is not, and
+/// the boundary as it was: the area of the boundary faces unchanged (a face left unmatched
+/// between neighbours would be a surface inside the body and add its area twice). The nodes
+/// are the file's, one per edge, and for hexes one per face and one per element. A file
+/// with wedges or pyramids is left as it is, and the case says so.
+#[test]
+fn corpus_refined_once() {
+    use pdcontact::case::discretize::element_volume;
+    use pdcontact::case::{CaseOptions, PdCase};
+    use pdcontact::importers::{boundary_faces, refine_uniform, ElementKind, Mesh, RefineRefusal};
+    use std::collections::BTreeSet;
+    let Some(dir) = corpus_dir() else {
+        eprintln!("../shared/corpus not present: corpus test skipped");
+        return;
+    };
+    let manifest = manifest(&dir);
+    let volume = |m: &Mesh| -> (f64, usize) {
+        let mut total = 0.0;
+        let mut inverted = 0;
+        for e in m.solids() {
+            let v = element_volume(e.kind.linear(), e.corners(), &m.coords);
+            total += v;
+            inverted += usize::from(v <= 0.0);
+        }
+        (total, inverted)
+    };
+    // The area of the boundary: a triangle's, a quadrilateral's as the bilinear patch of its
+    // corners (Gauss-Legendre, 4 × 4 points), which its four children tile exactly.
+    let area = |m: &Mesh| -> f64 {
+        let p = |v: u32| nalgebra::Vector3::from(m.coords[v as usize]);
+        let g = [
+            (-0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
+            (-0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
+            (0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
+            (0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
+        ];
+        boundary_faces(m)
+            .boundary
+            .iter()
+            .map(|f| {
+                let [a, b, c, d] = f.nodes.map(p);
+                if f.is_triangle() {
+                    return 0.5 * (b - a).cross(&(c - a)).norm();
+                }
+                let mut sum = 0.0;
+                for (u, wu) in g {
+                    for (v, wv) in g {
+                        // x(u, v) = ¼[(1−u)(1−v)a + (1+u)(1−v)b + (1+u)(1+v)c + (1−u)(1+v)d]
+                        let du = ((1.0 - v) * (b - a) + (1.0 + v) * (c - d)) * 0.25;
+                        let dv = ((1.0 - u) * (d - a) + (1.0 + u) * (c - b)) * 0.25;
+                        sum += wu * wv * du.cross(&dv).norm();
+                    }
+                }
+                sum
+            })
+            .sum()
+    };
+    let (mut cut_files, mut refused_files) = (0, 0);
+    for entry in manifest["files"].as_array().expect("files list") {
+        if entry["expect"] != "ok" {
+            continue;
+        }
+        let rel = entry["path"].as_str().expect("path");
+        let mesh = read_path(&dir.join(rel), None).expect("an ok file reads");
+        let whole = mesh
+            .solids()
+            .filter(|e| !matches!(e.kind.linear(), ElementKind::Tet4 | ElementKind::Hex8))
+            .count();
+        let solids = mesh.solids().count();
+        match refine_uniform(&mesh) {
+            Err(why) => {
+                let expected = if whole > 0 {
+                    RefineRefusal::WedgesOrPyramids(whole)
+                } else {
+                    RefineRefusal::NoSolids
+                };
+                assert_eq!(why, expected, "{rel}");
+                let options = CaseOptions {
+                    refine: 1,
+                    ..Default::default()
+                };
+                if let Ok(case) = PdCase::build(mesh, options) {
+                    assert!(
+                        case.mesh
+                            .warnings
+                            .iter()
+                            .any(|w| w.starts_with("refine has no effect")),
+                        "{rel}: {:?}",
+                        case.mesh.warnings
+                    );
+                }
+                refused_files += 1;
+            }
+            Ok(fine) => {
+                assert_eq!(whole, 0, "{rel}");
+                assert_eq!(fine.solids().count(), 8 * solids, "{rel}");
+                let (v0, bad0) = volume(&mesh);
+                let (v1, bad1) = volume(&fine);
+                assert!(((v1 - v0) / v0).abs() < 1e-9, "{rel}: volume {v0} -> {v1}");
+                if bad0 == 0 {
+                    assert_eq!(bad1, 0, "{rel}: inverted children");
+                }
+                let (a0, a1) = (area(&mesh), area(&fine));
+                assert!(((a1 - a0) / a0).abs() < 1e-6, "{rel}: area {a0} -> {a1}");
+                // One node per edge of the solids (and of the faces, lines kept for sets), one
+                // per hex face and one per hex.
+                let mut edges = BTreeSet::new();
+                let mut faces = BTreeSet::new();
+                let mut hexes = 0;
+                for e in mesh.elements() {
+                    let c = e.corners();
+                    let pairs: &[(usize, usize)] = match e.kind.linear() {
+                        ElementKind::Tet4 => &pdcontact::importers::mesh::TET10_EDGES,
+                        ElementKind::Hex8 => &pdcontact::importers::mesh::HEX20_EDGES,
+                        ElementKind::Line => &[(0, 1)],
+                        ElementKind::Triangle => &[(0, 1), (1, 2), (2, 0)],
+                        ElementKind::Quadrilateral => &[(0, 1), (1, 2), (2, 3), (3, 0)],
+                        _ => &[],
+                    };
+                    for &(a, b) in pairs {
+                        edges.insert((c[a].min(c[b]), c[a].max(c[b])));
+                    }
+                    if e.kind.linear() == ElementKind::Hex8 {
+                        hexes += 1;
+                        for f in pdcontact::importers::face_corners(ElementKind::Hex8) {
+                            let key: BTreeSet<u32> = f.iter().map(|&k| c[k]).collect();
+                            faces.insert(key);
+                        }
+                    }
+                }
+                assert_eq!(
+                    fine.node_count(),
+                    mesh.node_count() + edges.len() + faces.len() + hexes,
+                    "{rel}"
+                );
+                cut_files += 1;
+            }
+        }
+    }
+    assert!(cut_files >= 10, "{cut_files} files cut");
+    assert!(refused_files >= 1, "{refused_files} files refused");
+}

@@ -18,6 +18,7 @@ pub mod inp;
 pub mod mesh;
 pub mod msh;
 pub mod quality;
+pub mod refine;
 pub mod split;
 pub mod summary;
 mod text;
@@ -28,6 +29,7 @@ pub use error::{describe_found, ImportError, Location};
 pub use faces::{boundary_faces, face_corners, BoundaryFace, FaceSet};
 pub use mesh::{ElementKind, ElementRef, Format, Mesh, NamedSet, NodeIndex, SetKind, MISSING_NODE};
 pub use quality::quality_warnings;
+pub use refine::{refine_uniform, RefineRefusal};
 pub use split::{has_splittable, split_second_order};
 pub use summary::MeshSummary;
 

@@ -350,6 +350,7 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                 symmetry,
                 horizon: spec.horizon.unwrap_or_default(),
                 second_order: spec.second_order.unwrap_or_default(),
+                refine: spec.refine.unwrap_or(0),
             };
             let case = PdCase::build(mesh, options).map_err(|e| match e {
                 Error::Input(msg) => {

@@ -27,7 +27,7 @@ pub mod surface;
 
 use std::time::Instant;
 
-use pdcontact_importers::{boundary_faces, FaceSet, Mesh};
+use pdcontact_importers::{boundary_faces, FaceSet, Mesh, RefineRefusal};
 
 use crate::case::correction::{
     surface_correction_with, CorrectionMethod, Horizon, SurfaceCorrection,
@@ -251,6 +251,41 @@ impl SecondOrder {
     }
 }
 
+/// The most levels of [`refine`] a body may ask for: each multiplies the particles by about
+/// seven.
+pub const MAX_REFINE: u32 = 3;
+
+/// `mesh` with every tet and hex cut into eight at its edges' midpoints, `levels` times
+/// ([`pdcontact_importers::refine_uniform`]): twice the spacings across a contact per level, at
+/// about seven times the particles. Where the mesh cannot be cut (wedges or pyramids, no tet
+/// or hex), it is returned as it is and its warnings say why; where it is second order and its
+/// corners alone are cut, they say that its own mid-edge nodes would do better.
+pub fn refine(mesh: Mesh, levels: u32) -> Mesh {
+    let mut mesh = mesh;
+    if levels > 0 && pdcontact_importers::has_splittable(&mesh) {
+        mesh.warnings.push(
+            "refine: the mesh is second order and its corners are cut at straight midpoints; second_order = \"all-nodes\" uses its own mid-edge nodes, which lie on the geometry, for the same count".to_string(),
+        );
+    }
+    for _ in 0..levels {
+        mesh = match pdcontact_importers::refine_uniform(&mesh) {
+            Ok(fine) => fine,
+            Err(why) => {
+                mesh.warnings.push(match why {
+                    RefineRefusal::NoSolids => {
+                        "refine has no effect: the mesh has no tet or hex to cut".to_string()
+                    }
+                    RefineRefusal::WedgesOrPyramids(n) => format!(
+                        "refine has no effect: the mesh has {n} wedges or pyramids, which are not cut (cut tets or hexes beside them would leave unmatched faces inside the body)"
+                    ),
+                });
+                return mesh;
+            }
+        };
+    }
+    mesh
+}
+
 /// Options of the discretisation.
 #[derive(Clone, Debug)]
 pub struct CaseOptions {
@@ -266,6 +301,9 @@ pub struct CaseOptions {
     pub horizon: HorizonKind,
     /// Which nodes of a second-order mesh become particles.
     pub second_order: SecondOrder,
+    /// Levels of uniform refinement before the nodes become particles ([`refine`]); 0 keeps
+    /// the mesh's nodes.
+    pub refine: u32,
 }
 
 impl Default for CaseOptions {
@@ -277,6 +315,7 @@ impl Default for CaseOptions {
             symmetry: Vec::new(),
             horizon: HorizonKind::Local,
             second_order: SecondOrder::Corners,
+            refine: 0,
         }
     }
 }
@@ -318,6 +357,8 @@ pub struct PdCase {
     /// Which nodes of a second-order mesh are particles (`mesh` is the split mesh for
     /// [`SecondOrder::AllNodes`]).
     pub second_order: SecondOrder,
+    /// Levels of uniform refinement applied to the mesh ([`refine`]; `mesh` is the cut mesh).
+    pub refine: u32,
     pub bonds: BondList,
     pub surface: SurfaceDetection,
     pub correction: SurfaceCorrection,
@@ -336,9 +377,15 @@ impl PdCase {
                 options.horizon_factor
             )));
         }
+        if options.refine > MAX_REFINE {
+            return Err(Error::input(format!(
+                "refine = {}: expected at most {MAX_REFINE} levels (each cuts every element into eight, about seven times the particles)",
+                options.refine
+            )));
+        }
         let mut times = StageTimes::default();
         let t = Instant::now();
-        let mesh = options.second_order.apply(mesh);
+        let mesh = refine(options.second_order.apply(mesh), options.refine);
         let particles = discretize(&mesh, options.spacing)?;
         times.discretize = t.elapsed().as_secs_f64();
         let spacing = particles.spacing;
@@ -446,6 +493,7 @@ impl PdCase {
             local_spacing,
             horizon_factor: options.horizon_factor,
             second_order: options.second_order,
+            refine: options.refine,
             bonds,
             surface,
             correction,

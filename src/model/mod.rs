@@ -18,7 +18,7 @@ use crate::contact::estimate::{resolve, ContactResolution, ContactSurface};
 use crate::contact::shortrange::ShortRangePass;
 use crate::contact::{default_radius, hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::error::Result;
-use crate::importers::has_splittable;
+use crate::importers::{has_splittable, ElementKind};
 use crate::math::{Vec3, NOT_A_PARTICLE};
 use crate::parallel::Comm;
 use crate::scene::{excerpt, Axis, BodyKind, ContactMethod, Kinematics, Scene};
@@ -166,13 +166,20 @@ impl Model {
                     &ContactSurface::of_body(&self.bodies[s]),
                     &ContactSurface::of_body(&self.bodies[m]),
                 );
-                let r = ContactResolution {
-                    second_order_corners: self.bodies[s].as_pd().is_some_and(|pd| {
-                        pd.case.second_order == SecondOrder::Corners
-                            && has_splittable(&pd.case.mesh)
-                    }),
-                    ..r
-                };
+                let r =
+                    ContactResolution {
+                        second_order_corners: self.bodies[s].as_pd().is_some_and(|pd| {
+                            pd.case.second_order == SecondOrder::Corners
+                                && has_splittable(&pd.case.mesh)
+                        }),
+                        refinable: self.bodies[s].as_pd().is_some_and(|pd| {
+                            pd.case.refine == 0
+                                && pd.case.mesh.solids().all(|e| {
+                                    matches!(e.kind, ElementKind::Tet4 | ElementKind::Hex8)
+                                })
+                        }),
+                        ..r
+                    };
                 // A two-pass pair's passes share its stiffness; a short-range pair has none.
                 match self.passes.iter().find(|p| p.slave == s && p.master == m) {
                     Some(p) => r.with_penalty(&p.law),

@@ -190,6 +190,10 @@ pub struct BodySpec {
     /// "all-nodes" (each tet10 cut into eight tet4 at its mid-edge nodes, each hex20 into eight
     /// hex8 with face and centre nodes added).
     pub second_order: Option<SecondOrder>,
+    /// Levels of uniform refinement (default 0): each cuts every tet and hex into eight at its
+    /// edges' midpoints before the nodes become particles, twice the spacings across a
+    /// contact at about seven times the particles (at most 3).
+    pub refine: Option<u32>,
     /// Bond kinematics: "finite" (default; stretch of the deformed bond, paper Eq. 26) or
     /// "small" (linearised: extension along the reference bond, for small-strain comparisons).
     #[serde(default)]

@@ -325,6 +325,8 @@ pub struct BodyChoices {
     pub horizon_factor: Option<f64>,
     /// Which nodes of a second-order mesh become particles.
     pub second_order: SecondOrder,
+    /// Levels of uniform refinement ([`crate::case::refine`]).
+    pub refine: u32,
 }
 
 /// The validation case of `shape`, measured on the mesh at `mesh` (an absolute path), with
@@ -404,6 +406,12 @@ pub fn mesh_case(
                 .to_string()
         }
     };
+    let refine_line = match body.refine {
+        0 => String::new(),
+        n => format!(
+            "refine = {n}                    # each tet and hex cut into eight at its edges' midpoints\n"
+        ),
+    };
     let load_note = match problem {
         Problem::Roller => format!("P = {} N/m over the length", num(load)),
         _ => format!("P = {} N", num(load)),
@@ -422,7 +430,7 @@ every = 1000000
 [[body]]
 name = "{name}"
 mesh = {quoted}
-{format_line}{horizon_line}{second_order_line}kinematics = "small"         # Hertz theory is small-strain: compare like with like
+{format_line}{horizon_line}{second_order_line}{refine_line}kinematics = "small"         # Hertz theory is small-strain: compare like with like
 [body.material]
 youngs_modulus = {e:e}
 poisson_ratio = {POISSON}
@@ -523,7 +531,14 @@ pub fn validate_mesh(
     drop(data);
     let corners_of_second_order =
         body.second_order == SecondOrder::Corners && crate::importers::has_splittable(&mesh);
-    let mesh = body.second_order.apply(mesh);
+    if body.refine > crate::case::MAX_REFINE {
+        return Err(Error::input(format!(
+            "--refine {}: expected at most {} levels (each cuts every element into eight, about seven times the particles)",
+            body.refine,
+            crate::case::MAX_REFINE
+        )));
+    }
+    let mesh = crate::case::refine(body.second_order.apply(mesh), body.refine);
     let particles = discretize(&mesh, None)?;
     let spacing = particles.spacing;
     let shape = measure(&mesh, path, problem, 1e-6 * spacing)?;
@@ -539,6 +554,10 @@ pub fn validate_mesh(
         if corners_of_second_order {
             warnings.push(
                 "the mesh is second order (tet10 or hex20) and its corners alone are the particles: --second-order all-nodes makes every node a particle (each element cut into eight), about twice the spacings across the contact".to_string(),
+            );
+        } else if body.refine == 0 {
+            warnings.push(
+                "--refine 1 cuts every tet and hex into eight at its edges' midpoints: about twice the spacings across the contact, at about seven times the particles".to_string(),
             );
         }
     }

@@ -237,6 +237,9 @@ pub struct ContactResolution {
     /// The slave is meshed in tet10 or hex20 and only their corners are particles
     /// (`second_order = "corners"`): the warning on few spacings names the mid-edge nodes.
     pub second_order_corners: bool,
+    /// The slave is a first-order mesh of tets and hexes, not refined (`refine = 0`): the
+    /// warning on few spacings names `refine`.
+    pub refinable: bool,
 }
 
 /// The penetration a Hertz penalty (Eq. 23) allows under the estimated contact, against the
@@ -277,6 +280,8 @@ impl ContactResolution {
                 sig(e.radius / RESOLVED_SPACINGS),
             ) + if self.second_order_corners {
                 "; the mesh is second order (tet10 or hex20) and its corners alone are particles: second_order = \"all-nodes\" in the body makes every node one, about twice the spacings across the contact"
+            } else if self.refinable {
+                "; refine = 1 in the body cuts every tet and hex into eight at its edges' midpoints, about twice the spacings across the contact at about seven times the particles"
             } else {
                 ""
             }
@@ -503,6 +508,7 @@ pub fn resolve(slave: &ContactSurface, master: &ContactSurface) -> ContactResolu
         area_radius,
         penalty: None,
         second_order_corners: false,
+        refinable: false,
     }
 }
 
