@@ -418,3 +418,40 @@ fn run_prints_the_warning_and_writes_it_in_the_summary() {
     assert!(s["contact_estimates"][0]["spacings"].as_f64().unwrap() < 1.0);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `refine = 1` on a generated body: its hex lattice is cut into the lattice of half the cell,
+/// and the spacing the horizon is measured in halves with it (the generator's cell is the
+/// median edge of the mesh before it is cut), so the horizon stays three spacings.
+#[test]
+fn refined_generated_box_keeps_its_horizon_in_spacings() {
+    let scene = |refine: u32| {
+        format!(
+            r#"[solver]
+kind = "adr"
+
+[[body]]
+name = "block"
+generator = {{ shape = "box", min = [0.0, 0.0, 0.0], max = [0.4, 0.4, 0.4], spacing = 0.1 }}
+refine = {refine}
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+"#
+        )
+    };
+    let case_of = |refine: u32| {
+        let s = Scene::parse(&scene(refine), "test.toml", Path::new(".")).expect("scene parses");
+        let model = Model::from_scene(&s).expect("model builds");
+        model.bodies[0].as_pd().expect("a PD body").case.clone()
+    };
+    let (coarse, fine) = (case_of(0), case_of(1));
+    // 5³ nodes, then 9³: the lattice of half the cell.
+    assert_eq!(coarse.particles.len(), 125);
+    assert_eq!(fine.particles.len(), 729);
+    assert!((coarse.particles.spacing - 0.1).abs() < 1e-12);
+    assert!((fine.particles.spacing - 0.05).abs() < 1e-12);
+    assert!((fine.horizon - 3.0 * 0.05).abs() < 1e-12);
+    let volume = |c: &pdcontact::case::PdCase| c.particles.volume.iter().sum::<f64>();
+    assert!((volume(&fine) - 0.064).abs() < 1e-12 && (volume(&coarse) - 0.064).abs() < 1e-12);
+}

@@ -349,6 +349,15 @@ fn tet4_sphere_refined_once() {
     let scene = std::fs::read_to_string(&report.scene).expect("scene written");
     assert!(scene.contains("\nrefine = 1 "), "{scene}");
     let _ = std::fs::remove_dir_all(&dir);
+
+    // More than three levels (about 7⁴ times the particles) is refused before the mesh is read.
+    let out = validate(&["--mesh", "no-such-file.msh", "--refine", "4", "--quiet"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--refine 4") && err.contains("at most 3"),
+        "{err}"
+    );
 }
 
 fn run_roller(mesh: &Path, dir: &Path) -> MeshValidation {
@@ -384,7 +393,9 @@ fn roller_on_the_stored_tet_cylinder() {
     assert!(peak.abs() < 0.05, "peak {peak}");
     assert!(row.force_balance_error < 1e-3);
     assert!((4.6..5.0).contains(&report.contact_spacings));
-    assert_eq!(report.warnings.len(), 1);
+    // Under 5 spacings, and what `--refine 1` would do about it.
+    assert_eq!(report.warnings.len(), 2, "{:?}", report.warnings);
+    assert!(report.warnings[1].contains("--refine 1"));
     let scene = std::fs::read_to_string(&report.scene).expect("scene written");
     assert!(scene.contains("[[symmetry]]") && scene.contains("at = 0.3"));
     let _ = std::fs::remove_dir_all(&dir);

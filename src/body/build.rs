@@ -11,7 +11,7 @@ use crate::case::correction::CorrectionMethod;
 use crate::case::discretize::mesh_median_edge;
 use crate::case::generators;
 use crate::case::segments::{quad_area_normal, MasterSegment};
-use crate::case::{CaseOptions, PdCase, SymmetryPlane, DEFAULT_HORIZON_FACTOR};
+use crate::case::{CaseOptions, PdCase, SymmetryPlane, DEFAULT_HORIZON_FACTOR, MAX_REFINE};
 use crate::error::{Error, Result};
 use crate::math::{unit, Vec3, NOT_A_PARTICLE};
 use crate::scene::{box_corner, BodyKind, BodySpec, Scene, Side};
@@ -337,10 +337,14 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                 })
                 .collect();
             // A generated body's grid spacing is its generator's cell size, the median edge of
-            // its hex lattice; an imported mesh's is estimated from its particles' volumes.
-            let spacing = spec
-                .spacing
-                .or_else(|| spec.generator.is_some().then(|| mesh_median_edge(&mesh)));
+            // its hex lattice (halved by each level of `refine`, which halves every edge); an
+            // imported mesh's is estimated from its particles' volumes.
+            let refine = spec.refine.unwrap_or(0);
+            let spacing = spec.spacing.or_else(|| {
+                spec.generator
+                    .is_some()
+                    .then(|| mesh_median_edge(&mesh) / 2f64.powi(refine.min(MAX_REFINE) as i32))
+            });
             let options = CaseOptions {
                 spacing,
                 horizon_factor: spec.horizon_factor.unwrap_or(DEFAULT_HORIZON_FACTOR),
@@ -350,7 +354,7 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                 symmetry,
                 horizon: spec.horizon.unwrap_or_default(),
                 second_order: spec.second_order.unwrap_or_default(),
-                refine: spec.refine.unwrap_or(0),
+                refine,
             };
             let case = PdCase::build(mesh, options).map_err(|e| match e {
                 Error::Input(msg) => {

@@ -520,6 +520,13 @@ pub fn validate_mesh(
             )));
         }
     }
+    if body.refine > crate::case::MAX_REFINE {
+        return Err(Error::input(format!(
+            "--refine {}: expected at most {} levels (each cuts every element into eight, about seven times the particles)",
+            body.refine,
+            crate::case::MAX_REFINE
+        )));
+    }
     let data = std::fs::read(path).map_err(|e| {
         crate::importers::ImportError::whole_file(path, "a readable file", e.to_string())
     })?;
@@ -531,13 +538,6 @@ pub fn validate_mesh(
     drop(data);
     let corners_of_second_order =
         body.second_order == SecondOrder::Corners && crate::importers::has_splittable(&mesh);
-    if body.refine > crate::case::MAX_REFINE {
-        return Err(Error::input(format!(
-            "--refine {}: expected at most {} levels (each cuts every element into eight, about seven times the particles)",
-            body.refine,
-            crate::case::MAX_REFINE
-        )));
-    }
     let mesh = crate::case::refine(body.second_order.apply(mesh), body.refine);
     let particles = discretize(&mesh, None)?;
     let spacing = particles.spacing;
