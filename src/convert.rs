@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use pdcontact_importers::{has_splittable, read_path, Format, Mesh, SetKind};
+use pdcontact_importers::{has_splittable, read_path, ElementKind, Format, Mesh, SetKind};
 use serde::Serialize;
 
 use crate::case::segments::MasterSegment;
@@ -466,7 +466,14 @@ master = "plane"
             SecondOrder::Corners => "",
         },
         refine = match case.refine {
-            0 => "# refine = 1              # cut each tet and hex into eight at its edges' midpoints: about 7x the particles, half the spacing\n".to_string(),
+            0 if case
+                .mesh
+                .solids()
+                .all(|e| matches!(e.kind.linear(), ElementKind::Tet4 | ElementKind::Hex8)) =>
+            {
+                "# refine = 1              # cut each tet and hex into eight at its edges' midpoints: about 7x the particles, half the spacing\n".to_string()
+            }
+            0 => String::new(),
             n => format!("refine = {n}                # each tet and hex cut into eight at its edges' midpoints, {n} time(s)\n"),
         },
         nu = SKELETON_POISSON,

@@ -17,7 +17,7 @@
 //! left as it is: cut tets beside a whole wedge would leave faces unmatched, and those faces
 //! would become a surface inside the body.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use crate::faces::face_corners;
 use crate::mesh::{ElementKind, Mesh, HEX20_EDGES, MISSING_NODE, TET10_EDGES};
@@ -113,14 +113,14 @@ fn set_midpoints(mesh: &Mesh, nodes: &[u32], added: &[((u32, u32), u32)]) -> Vec
     let holds = |v: u32| nodes.binary_search(&v).is_ok();
     let key = |a: u32, b: u32| (a.min(b), a.max(b));
     // The edges of every element face whose corners the set holds.
-    let mut face_edges: HashMap<(u32, u32), ()> = HashMap::new();
+    let mut face_edges: HashSet<(u32, u32)> = HashSet::new();
     for e in mesh.solids() {
         for face in face_corners(e.kind) {
             let corners: Vec<u32> = face.iter().map(|&k| e.nodes[k]).collect();
             if corners.iter().all(|&v| v != MISSING_NODE && holds(v)) {
                 for k in 0..corners.len() {
                     let (a, b) = (corners[k], corners[(k + 1) % corners.len()]);
-                    face_edges.insert(key(a, b), ());
+                    face_edges.insert(key(a, b));
                 }
             }
         }
@@ -128,9 +128,7 @@ fn set_midpoints(mesh: &Mesh, nodes: &[u32], added: &[((u32, u32), u32)]) -> Vec
     added
         .iter()
         .filter(|((a, b), _)| {
-            holds(*a)
-                && holds(*b)
-                && (face_edges.is_empty() || face_edges.contains_key(&key(*a, *b)))
+            holds(*a) && holds(*b) && (face_edges.is_empty() || face_edges.contains(&key(*a, *b)))
         })
         .map(|(_, v)| *v)
         .collect()
