@@ -292,6 +292,22 @@ impl Mesh {
         }
     }
 
+    /// The same nodes (numbers, coordinates) and warnings, without elements or sets: where a
+    /// mesh is rebuilt element by element on the nodes of another.
+    pub fn nodes_only(&self) -> Mesh {
+        Mesh {
+            node_ids: self.node_ids.clone(),
+            coords: self.coords.clone(),
+            warnings: self.warnings.clone(),
+            ..Mesh::new()
+        }
+    }
+
+    /// The largest node number (0 without nodes): nodes added to the mesh are numbered after it.
+    pub fn max_node_id(&self) -> u64 {
+        self.node_ids.iter().copied().max().unwrap_or(0)
+    }
+
     /// Number of nodes.
     pub fn node_count(&self) -> usize {
         self.coords.len()

@@ -66,15 +66,10 @@ impl Midpoints {
 /// tet10 and hex20, a line, triangle or quadrilateral its quadratic form; second-order elements
 /// are taken on their corners. Element numbers, order and sets are kept.
 fn with_midpoints(mesh: &Mesh) -> Mesh {
-    let mut out = Mesh {
-        node_ids: mesh.node_ids.clone(),
-        coords: mesh.coords.clone(),
-        warnings: mesh.warnings.clone(),
-        ..Mesh::new()
-    };
+    let mut out = mesh.nodes_only();
     let mut mids = Midpoints {
         edges: HashMap::new(),
-        next_id: mesh.node_ids.iter().copied().max().unwrap_or(0),
+        next_id: mesh.max_node_id(),
     };
     for e in mesh.elements() {
         let corners = e.corners();
@@ -163,12 +158,7 @@ mod tests {
     use crate::SetKind;
 
     fn tet_volume(c: &[[f64; 3]], n: &[u32]) -> f64 {
-        let p: Vec<[f64; 3]> = n[..4].iter().map(|&v| c[v as usize]).collect();
-        let d = |k: usize| [0, 1, 2].map(|i| p[k][i] - p[0][i]);
-        let (a, b, e) = (d(1), d(2), d(3));
-        (a[0] * (b[1] * e[2] - b[2] * e[1]) - a[1] * (b[0] * e[2] - b[2] * e[0])
-            + a[2] * (b[0] * e[1] - b[1] * e[0]))
-            / 6.0
+        crate::split::signed_volume6(c, [n[0], n[1], n[2], n[3]]) / 6.0
     }
 
     /// Two tets sharing face 1-2-3, the set "bottom" on the plane z = 0 (nodes 0, 1, 2) with

@@ -26,7 +26,7 @@ use crate::mesh::{ElementKind, Mesh, HEX20_EDGES, MISSING_NODE};
 const OPPOSITE: [(usize, usize); 3] = [(4, 9), (5, 7), (6, 8)];
 
 /// Signed volume ×6 of the tetrahedron `t` (positive in the convention of [`crate::mesh`]).
-fn signed_volume6(coords: &[[f64; 3]], t: [u32; 4]) -> f64 {
+pub(crate) fn signed_volume6(coords: &[[f64; 3]], t: [u32; 4]) -> f64 {
     let p = t.map(|n| coords[n as usize]);
     let d = |k: usize| [p[k][0] - p[0][0], p[k][1] - p[0][1], p[k][2] - p[0][2]];
     let (a, b, c) = (d(1), d(2), d(3));
@@ -202,15 +202,10 @@ pub fn split_second_order(mesh: &Mesh) -> Option<Mesh> {
     if !has_splittable(mesh) {
         return None;
     }
-    let mut out = Mesh {
-        node_ids: mesh.node_ids.clone(),
-        coords: mesh.coords.clone(),
-        warnings: mesh.warnings.clone(),
-        ..Mesh::new()
-    };
+    let mut out = mesh.nodes_only();
     let mut hex = HexNodes {
         faces: HashMap::new(),
-        next_id: mesh.node_ids.iter().copied().max().unwrap_or(0),
+        next_id: mesh.max_node_id(),
     };
     // Added nodes and the nodes that decide their set membership.
     let mut added: Vec<(u32, Vec<u32>)> = Vec::new();

@@ -55,12 +55,10 @@ impl ContactLaw {
     }
 
     /// Tangent stiffness `dF/dδ` at the edge of the window: the largest the contact can
-    /// present, used for ADR's fictitious density and the explicit stable step.
+    /// present, used for the explicit stable step and for a free rigid body's density before
+    /// it touches (a slave's ADR density is [`Self::relaxation_stiffness`]).
     pub fn max_tangent(&self) -> f64 {
-        match self.law {
-            PenaltyLaw::Hertz => 1.5 * self.stiffness * self.window.sqrt(),
-            PenaltyLaw::Linear => self.stiffness * self.window.sqrt(),
-        }
+        self.tangent(self.window)
     }
 }
 
