@@ -47,6 +47,9 @@ pub struct ConvertSummary {
     pub mesh_volume: f64,
     pub surface_particles: usize,
     pub boundary_nodes: usize,
+    /// Smooth surface particles whose volume was set to their area times the surface layer's
+    /// thickness (`surface_volume = "per-area"`, the default).
+    pub surface_layer_evened: usize,
     pub surface_missed: usize,
     pub surface_extra: usize,
     pub master_segments: usize,
@@ -85,6 +88,7 @@ impl ConvertSummary {
             mesh_volume: case.particles.mesh_volume,
             surface_particles: agreement.surface_particles,
             boundary_nodes: agreement.boundary_nodes,
+            surface_layer_evened: case.surface_layer_evened,
             surface_missed: agreement.missed,
             surface_extra: agreement.extra,
             master_segments: case.segments.segments.len(),
@@ -109,7 +113,8 @@ impl ConvertSummary {
         let mut text = format!(
             "particles {} (volume {:.6e}, mesh {:.6e}, {:+.3} %)\n\
              bonds {} ({:.1} per particle), spacing {:.6e}, horizon {:.6e}\n\
-             surface particles {}, mesh boundary nodes {}: {} missed, {} extra\n\
+             surface particles {}, mesh boundary nodes {}: {} missed, {} extra; \
+             {} with their volume evened to their area\n\
              master segments {} ({} boundary faces dropped)\n\
              surface correction: {} passes, {} particles more than 1 % off the bulk energy \
              (largest {:.2} %)\n\
@@ -127,6 +132,7 @@ impl ConvertSummary {
             self.boundary_nodes,
             self.surface_missed,
             self.surface_extra,
+            self.surface_layer_evened,
             self.master_segments,
             self.dropped_faces,
             self.correction_passes,

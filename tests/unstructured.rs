@@ -134,8 +134,9 @@ fn hertz_sphere_cap_on_a_gmsh_default_tet_mesh() {
         true,
         "cap-tet4",
     );
-    // Measured: MRE 1.88 %, radius +3.18 %, peak +1.66 % (own pressures: 4.77 %, +4.27 %,
-    // +11.6 %). The aims: MRE 3 %, radius 3 % (not yet met at a/h = 7.5), peak 10 %.
+    // Measured: MRE 1.94 %, radius +3.20 %, peak −1.9 % (own pressures: MRE 3.30 %; with
+    // lumped surface volumes 1.88 %, +3.18 %, +1.66 %, own 4.77 %). The aims: MRE 3 %,
+    // radius 3 % (not yet met at a/h = 7.5), peak 10 %.
     assert!(acc.mre < 0.03, "MRE {}", acc.mre);
     assert!(
         (acc.fitted_radius / a - 1.0).abs() < 0.04,
@@ -144,7 +145,7 @@ fn hertz_sphere_cap_on_a_gmsh_default_tet_mesh() {
     );
     assert!((peak / p0 - 1.0).abs() < 0.05, "peak {}", peak / p0);
     let own = own_pressure_mre(&model, a, p0);
-    assert!(own > acc.mre + 0.02, "own {own} recovered {}", acc.mre);
+    assert!(own > acc.mre + 0.01, "own {own} recovered {}", acc.mre);
 }
 
 #[test]
@@ -234,7 +235,8 @@ fn eigenvalue_surface_on_tets_split_into_hexes() {
 fn hertz_sphere_on_tets_split_into_hexes() {
     let (model, a, p0, acc, peak) =
         hertz_run(&mesh_path("sphere_hex_h020.msh"), LOAD, false, "hex");
-    // Measured: MRE 6.22 %, radius +2.52 %, peak -0.67 %. Each particle's own pressure gives
+    // Measured with lumped surface volumes: MRE 6.22 %, radius +2.52 %, peak -0.67 %
+    // (`surface_volume = "per-area"`, the default, lowers both MREs by under a point). Each particle's own pressure gives
     // 7.53 %, +2.69 %, +0.82 % (23.9 % while interior particles facing the plane counted as
     // surface): the recovery on the surface takes out the scatter of the irregular cloud.
     assert!(acc.mre < 0.07, "MRE {}", acc.mre);

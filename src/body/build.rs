@@ -355,6 +355,7 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                 horizon: spec.horizon.unwrap_or_default(),
                 second_order: spec.second_order.unwrap_or_default(),
                 refine,
+                surface_volume: spec.surface_volume.unwrap_or_default(),
             };
             let case = PdCase::build(mesh, options).map_err(|e| match e {
                 Error::Input(msg) => {

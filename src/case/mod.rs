@@ -8,6 +8,7 @@
 //! |---|---|
 //! | built-in hex8 shapes (meshes made in memory) | [`generators`] |
 //! | particles, volumes, spacing | [`discretize`](mod@discretize) |
+//! | the surface layer's volume per area | [`surface_layer`] |
 //! | local spacing of a graded mesh | [`spacing`](mod@spacing) |
 //! | cell lists, bond families | [`neighbours`] |
 //! | the bond-force pass, each pair once | [`pairs`] |
@@ -24,6 +25,7 @@ pub mod pairs;
 pub mod segments;
 pub mod spacing;
 pub mod surface;
+pub mod surface_layer;
 
 use std::time::Instant;
 
@@ -36,6 +38,8 @@ use crate::case::discretize::{discretize, Discretization};
 use crate::case::neighbours::{build_bonds_from, build_bonds_variable, BondList};
 use crate::case::segments::{master_segments, SegmentSet};
 use crate::case::surface::{detect_surface, SurfaceDetection, NORMAL_KERNEL_WIDTH};
+use crate::case::surface_layer::even_surface_layer;
+pub use crate::case::surface_layer::SurfaceVolume;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
 
@@ -304,6 +308,8 @@ pub struct CaseOptions {
     /// Levels of uniform refinement before the nodes become particles ([`refine`]); 0 keeps
     /// the mesh's nodes.
     pub refine: u32,
+    /// Which volume a surface particle carries ([`SurfaceVolume`]).
+    pub surface_volume: SurfaceVolume,
 }
 
 impl Default for CaseOptions {
@@ -316,6 +322,7 @@ impl Default for CaseOptions {
             horizon: HorizonKind::Local,
             second_order: SecondOrder::Corners,
             refine: 0,
+            surface_volume: SurfaceVolume::PerArea,
         }
     }
 }
@@ -359,6 +366,8 @@ pub struct PdCase {
     pub second_order: SecondOrder,
     /// Levels of uniform refinement applied to the mesh ([`refine`]; `mesh` is the cut mesh).
     pub refine: u32,
+    /// Surface particles whose volume was evened to their area ([`even_surface_layer`]).
+    pub surface_layer_evened: usize,
     pub bonds: BondList,
     pub surface: SurfaceDetection,
     pub correction: SurfaceCorrection,
@@ -386,9 +395,38 @@ impl PdCase {
         let mut times = StageTimes::default();
         let t = Instant::now();
         let mesh = refine(options.second_order.apply(mesh), options.refine);
-        let particles = discretize(&mesh, options.spacing)?;
-        times.discretize = t.elapsed().as_secs_f64();
+        let mut particles = discretize(&mesh, options.spacing)?;
         let spacing = particles.spacing;
+        let all_faces = boundary_faces(&mesh);
+        let mut faces = all_faces.clone();
+        if !options.symmetry.is_empty() {
+            // Faces on a symmetry plane are cuts, not surfaces: the images cover them.
+            let tol = 1e-6 * spacing;
+            faces.boundary.retain(|f| {
+                !options.symmetry.iter().any(|pl| {
+                    f.nodes
+                        .iter()
+                        .all(|&n| (mesh.coords[n as usize][pl.axis] - pl.at).abs() <= tol)
+                })
+            });
+        }
+        let surface_layer_evened = match options.surface_volume {
+            SurfaceVolume::Lumped => 0,
+            SurfaceVolume::PerArea => {
+                let mut volume = vec![0.0; mesh.node_count()];
+                for (&node, &v) in particles.node.iter().zip(&particles.volume) {
+                    volume[node as usize] = v;
+                }
+                let evened =
+                    even_surface_layer(&mesh, &mut volume, &faces.boundary, &all_faces.boundary);
+                for (v, &node) in particles.volume.iter_mut().zip(&particles.node) {
+                    *v = volume[node as usize];
+                }
+                evened
+            }
+        };
+        drop(all_faces);
+        times.discretize = t.elapsed().as_secs_f64();
         let horizon = options.horizon_factor * spacing;
 
         let t = Instant::now();
@@ -470,18 +508,6 @@ impl PdCase {
         times.correction = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
-        let mut faces = boundary_faces(&mesh);
-        if !options.symmetry.is_empty() {
-            // Faces on a symmetry plane are cuts, not surfaces: the images cover them.
-            let tol = 1e-6 * spacing;
-            faces.boundary.retain(|f| {
-                !options.symmetry.iter().any(|pl| {
-                    f.nodes
-                        .iter()
-                        .all(|&n| (mesh.coords[n as usize][pl.axis] - pl.at).abs() <= tol)
-                })
-            });
-        }
         let segments = master_segments(&faces, &particles, &surface.is_surface);
         times.segments = t.elapsed().as_secs_f64();
 
@@ -494,6 +520,7 @@ impl PdCase {
             horizon_factor: options.horizon_factor,
             second_order: options.second_order,
             refine: options.refine,
+            surface_layer_evened,
             bonds,
             surface,
             correction,

@@ -19,7 +19,7 @@ mod check;
 pub(crate) use check::{box_corner, memory_limit};
 
 use crate::case::correction::CorrectionMethod;
-use crate::case::{HorizonKind, SecondOrder};
+use crate::case::{HorizonKind, SecondOrder, SurfaceVolume};
 use crate::error::{Error, Result};
 
 /// The whole scene file.
@@ -194,6 +194,10 @@ pub struct BodySpec {
     /// edges' midpoints before the nodes become particles, twice the spacings across a
     /// contact at about seven times the particles (at most 3).
     pub refine: Option<u32>,
+    /// Volume of a smooth surface particle: "per-area" (default: its tributary area times the
+    /// thickness of the surface layer around it, so that an irregular surface carries an even
+    /// stiffness per area) or "lumped" (its elements' share, as every other node).
+    pub surface_volume: Option<SurfaceVolume>,
     /// Bond kinematics: "finite" (default; stretch of the deformed bond, paper Eq. 26) or
     /// "small" (linearised: extension along the reference bond, for small-strain comparisons).
     #[serde(default)]
