@@ -8,8 +8,9 @@
 //! on tets split into hexes, three to six quadrilaterals meet at a node, and the volume per
 //! tributary area (the thickness of the layer the node stands for) scatters by half its median.
 //! A particle's bonds, and so the stiffness behind each square metre of its surface, scale with
-//! its volume (Eq. 4, `V_i V_j`), and the penalty's pressure (Eq. 23) follows it: particles a
-//! third too thick carry a third too much (docs/VALIDATION.md, "First-order meshes: `refine`").
+//! its volume (Eq. 4, `V_i V_j`), and the penalty's pressure (Eq. 23) follows it: on a refined
+//! sphere of hexes from tets the file's nodes carried 0.15 p0 above Hertz's (docs/VALIDATION.md,
+//! "The surface layer's volume per area").
 //!
 //! [`even_surface_layer`] sets each smooth surface node's volume to its tributary area times
 //! the thickness `ΣV/ΣA` over it and its ring of surface neighbours, and gives the difference to
