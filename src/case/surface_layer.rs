@@ -176,45 +176,29 @@ pub fn even_surface_layer(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pdcontact_importers::{boundary_faces, ElementKind};
+    use crate::case::generators;
+    use pdcontact_importers::boundary_faces;
 
-    /// A block of `nx × ny × nz` hex8 cells of side `h`, its nodes displaced by `jitter(i, j, k)`.
-    fn block(n: [usize; 3], h: f64, jitter: impl Fn(usize, usize, usize) -> [f64; 3]) -> Mesh {
-        let mut mesh = Mesh::new();
-        let id = |i: usize, j: usize, k: usize| (i + (n[0] + 1) * (j + (n[1] + 1) * k)) as u32;
-        for k in 0..=n[2] {
-            for j in 0..=n[1] {
-                for i in 0..=n[0] {
-                    let d = jitter(i, j, k);
-                    let xyz = [
-                        i as f64 * h + d[0],
-                        j as f64 * h + d[1],
-                        k as f64 * h + d[2],
-                    ];
-                    mesh.push_node(id(i, j, k) as u64 + 1, xyz);
-                }
+    /// A block of `nx × ny × nz` hex8 cells of side `h` ([`generators::cuboid`]), its nodes
+    /// displaced by `jitter(i, j, k)`; with the mesh node at each grid point
+    /// `i + (nx + 1) (j + (ny + 1) k)`.
+    fn block(
+        n: [usize; 3],
+        h: f64,
+        jitter: impl Fn(usize, usize, usize) -> [f64; 3],
+    ) -> (Mesh, Vec<u32>) {
+        let mut mesh = generators::cuboid([0.0; 3], n.map(|c| c as f64 * h), h);
+        let mut grid = vec![u32::MAX; (n[0] + 1) * (n[1] + 1) * (n[2] + 1)];
+        for (node, xyz) in mesh.coords.iter_mut().enumerate() {
+            let [i, j, k] = xyz.map(|x| (x / h).round() as usize);
+            grid[i + (n[0] + 1) * (j + (n[1] + 1) * k)] = node as u32;
+            let d = jitter(i, j, k);
+            for (x, dx) in xyz.iter_mut().zip(d) {
+                *x += dx;
             }
         }
-        let mut e = 1;
-        for k in 0..n[2] {
-            for j in 0..n[1] {
-                for i in 0..n[0] {
-                    let nodes = [
-                        id(i, j, k),
-                        id(i + 1, j, k),
-                        id(i + 1, j + 1, k),
-                        id(i, j + 1, k),
-                        id(i, j, k + 1),
-                        id(i + 1, j, k + 1),
-                        id(i + 1, j + 1, k + 1),
-                        id(i, j + 1, k + 1),
-                    ];
-                    mesh.push_element(e, ElementKind::Hex8, &nodes);
-                    e += 1;
-                }
-            }
-        }
-        mesh
+        assert!(!grid.contains(&u32::MAX));
+        (mesh, grid)
     }
 
     fn tributary_areas(mesh: &Mesh, faces: &[BoundaryFace]) -> Vec<f64> {
@@ -241,7 +225,7 @@ mod tests {
 
     #[test]
     fn a_lattice_keeps_its_lumped_volumes() {
-        let mesh = block([8, 8, 8], 0.1, |_, _, _| [0.0; 3]);
+        let (mesh, _) = block([8, 8, 8], 0.1, |_, _, _| [0.0; 3]);
         let faces = boundary_faces(&mesh).boundary;
         let before = lumped(&mesh);
         let mut v = before.clone();
@@ -258,7 +242,7 @@ mod tests {
         // mean of its top and bottom faces' areas times its height), not its own area.
         let n = [10, 10, 4];
         let h = 0.1;
-        let mesh = block(n, h, |i, j, k| {
+        let (mesh, grid) = block(n, h, |i, j, k| {
             let top = k == n[2] && (1..n[0]).contains(&i) && (1..n[1]).contains(&j);
             let s = |m: usize| [-1.0, 0.0, 1.0][m % 3] * h / 3.0;
             if top {
@@ -278,7 +262,7 @@ mod tests {
         assert!(v.iter().all(|&x| x >= 0.0));
         // Nodes three rings inside the top face's edges: the spread of their thickness V/A.
         let faces_area = tributary_areas(&mesh, &faces);
-        let top = |i: usize, j: usize| i + (n[0] + 1) * (j + (n[1] + 1) * n[2]);
+        let top = |i: usize, j: usize| grid[i + (n[0] + 1) * (j + (n[1] + 1) * n[2])] as usize;
         let spread = |vol: &[f64]| {
             let t: Vec<f64> = (3..n[0] - 2)
                 .flat_map(|i| (3..n[1] - 2).map(move |j| (i, j)))
