@@ -154,9 +154,7 @@ impl ConvertSummary {
                 self.horizon / self.spacing
             ));
         }
-        for w in &self.warnings {
-            text.push_str(&format!("warning: {w}\n"));
-        }
+        // The warnings go to stderr (`pdcontact convert` prints them there, as `run` does).
         text
     }
 }
@@ -255,7 +253,7 @@ impl SkeletonLoad {
         let compliance = (1.0 - SKELETON_POISSON * SKELETON_POISSON) / SKELETON_YOUNGS;
         let at = |force: f64| {
             let part = ContactSurface::of_case("part", case, -force * Vec3::z(), compliance);
-            resolve(&part, &plane)
+            resolve(&part, &plane).with_mesh_hints(case)
         };
         let footprint = ((hi[0] - lo[0]) * (hi[1] - lo[1])).max(1e-30);
         let mut force = 1e-4 * SKELETON_YOUNGS * footprint;
@@ -289,8 +287,8 @@ impl SkeletonLoad {
                     e.what(), sig(e.radius), sig(e.curvature_radius()), sig(e.radius / RESOLVED_SPACINGS)
                 ),
                 vec![format!(
-                    "case.toml: the load {} N gives an expected contact {} ≈ {} m, the most small-strain Hertz allows on this body (a = {SMALL_STRAIN_RATIO} R, R = {} m), which spans {n:.1} particle spacings (Δ = {} m); Hertz-level pressure needs ≥ {RESOLVED_SPACINGS} spacings across it — refine the mesh near the contact to Δ ≤ {} m",
-                    sig(force), e.what(), sig(e.radius), sig(e.curvature_radius()), sig(resolution.spacing), sig(e.radius / RESOLVED_SPACINGS)
+                    "case.toml: the load {} N gives an expected contact {} ≈ {} m, the most small-strain Hertz allows on this body (a = {SMALL_STRAIN_RATIO} R, R = {} m), which spans {n:.1} particle spacings (Δ = {} m); Hertz-level pressure needs ≥ {RESOLVED_SPACINGS} spacings across it — refine the mesh near the contact to Δ ≤ {} m{}",
+                    sig(force), e.what(), sig(e.radius), sig(e.curvature_radius()), sig(resolution.spacing), sig(e.radius / RESOLVED_SPACINGS), resolution.mesh_hint()
                 )],
             )
         } else {

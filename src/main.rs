@@ -64,6 +64,9 @@ enum Command {
         /// Print the summary as JSON on stdout.
         #[arg(long)]
         json: bool,
+        /// Do not print the warnings on stderr (they stay in the summary).
+        #[arg(long)]
+        quiet: bool,
     },
     /// The main job: an elastic sphere pressed onto a rigid plane, compared with Hertz.
     Demo {
@@ -364,6 +367,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             refine,
             format,
             json,
+            quiet,
         } => {
             let options = CaseOptions {
                 spacing,
@@ -373,6 +377,11 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 ..Default::default()
             };
             let (_, summary) = pdcontact::convert::convert(&mesh, format, &output, options)?;
+            if !quiet {
+                for w in &summary.warnings {
+                    eprintln!("warning: {w}");
+                }
+            }
             print_report(json, &summary, || {
                 format!("{}wrote {}\n", summary.to_text(), output.display())
             });

@@ -366,6 +366,21 @@ fn convert_chooses_a_resolved_load_or_says_how_fine_a_mesh_it_needs() {
             && w.contains("refine the mesh near the contact to Δ ≤ 0.0300 m"),
         "{w}"
     );
+    // The mesh is first-order tets: the warning names what the body can do about it.
+    assert!(w.ends_with("; refine = 1 in the body cuts every tet and hex into eight at its edges' midpoints, about twice the spacings across the contact at about seven times the particles"), "{w}");
+    assert_eq!(s["contact_estimates"][0]["refinable"], true);
+    // It is also on stderr, as `run` prints its warnings; `--quiet` leaves it in the summary.
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.trim_end(), format!("warning: {w}"));
+    let quiet = exe()
+        .args(["convert", "--json", "--quiet", "-o"])
+        .arg(dir.join("quiet"))
+        .arg(repo("meshes/sphere_tet4.msh"))
+        .output()
+        .expect("runs");
+    assert!(quiet.status.success() && quiet.stderr.is_empty());
+    let q: serde_json::Value = serde_json::from_slice(&quiet.stdout).expect("json");
+    assert_eq!(q["warnings"], s["warnings"]);
     let e = &s["contact_estimates"][0]["estimate"];
     let load = e["load"].as_f64().unwrap();
     let (a, _) = hertz_sphere(load, 1.0, e_star_rigid(YOUNGS, POISSON));

@@ -378,6 +378,23 @@ pub struct PdCase {
 }
 
 impl PdCase {
+    /// Second-order elements of the file whose corners alone are particles
+    /// ([`SecondOrder::Corners`] on a mesh with a tet10 or hex20 to cut).
+    pub fn corners_of_second_order(&self) -> bool {
+        self.second_order == SecondOrder::Corners && pdcontact_importers::has_splittable(&self.mesh)
+    }
+
+    /// A first-order mesh of tets and hexes that was not refined: `refine = 1` would cut it.
+    pub fn refinable(&self) -> bool {
+        self.refine == 0
+            && self.mesh.solids().all(|e| {
+                matches!(
+                    e.kind,
+                    pdcontact_importers::ElementKind::Tet4 | pdcontact_importers::ElementKind::Hex8
+                )
+            })
+    }
+
     /// Builds the case from a mesh.
     pub fn build(mesh: Mesh, options: CaseOptions) -> Result<PdCase> {
         if !(options.horizon_factor > 0.0 && options.horizon_factor.is_finite()) {

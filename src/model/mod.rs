@@ -13,12 +13,10 @@ use self::domain::Domain;
 
 use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
 use crate::case::pairs::{pair_forces, PairKinematics};
-use crate::case::SecondOrder;
 use crate::contact::estimate::{resolve, ContactResolution, ContactSurface};
 use crate::contact::shortrange::ShortRangePass;
 use crate::contact::{default_radius, hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::error::Result;
-use crate::importers::{has_splittable, ElementKind};
 use crate::math::{Vec3, NOT_A_PARTICLE};
 use crate::parallel::Comm;
 use crate::scene::{excerpt, Axis, BodyKind, ContactMethod, Kinematics, Scene};
@@ -166,20 +164,10 @@ impl Model {
                     &ContactSurface::of_body(&self.bodies[s]),
                     &ContactSurface::of_body(&self.bodies[m]),
                 );
-                let r =
-                    ContactResolution {
-                        second_order_corners: self.bodies[s].as_pd().is_some_and(|pd| {
-                            pd.case.second_order == SecondOrder::Corners
-                                && has_splittable(&pd.case.mesh)
-                        }),
-                        refinable: self.bodies[s].as_pd().is_some_and(|pd| {
-                            pd.case.refine == 0
-                                && pd.case.mesh.solids().all(|e| {
-                                    matches!(e.kind, ElementKind::Tet4 | ElementKind::Hex8)
-                                })
-                        }),
-                        ..r
-                    };
+                let r = match self.bodies[s].as_pd() {
+                    Some(pd) => r.with_mesh_hints(&pd.case),
+                    None => r,
+                };
                 // A two-pass pair's passes share its stiffness; a short-range pair has none.
                 match self.passes.iter().find(|p| p.slave == s && p.master == m) {
                     Some(p) => r.with_penalty(&p.law),

@@ -278,14 +278,29 @@ impl ContactResolution {
                 n,
                 sig(self.spacing),
                 sig(e.radius / RESOLVED_SPACINGS),
-            ) + if self.second_order_corners {
-                "; the mesh is second order (tet10 or hex20) and its corners alone are particles: second_order = \"all-nodes\" in the body makes every node one, about twice the spacings across the contact"
-            } else if self.refinable {
-                "; refine = 1 in the body cuts every tet and hex into eight at its edges' midpoints, about twice the spacings across the contact at about seven times the particles"
-            } else {
-                ""
-            }
+            ) + self.mesh_hint()
         })
+    }
+
+    /// What the slave's own mesh offers for more spacings across the contact, as the tail of
+    /// a warning (empty where it offers nothing).
+    pub fn mesh_hint(&self) -> &'static str {
+        if self.second_order_corners {
+            "; the mesh is second order (tet10 or hex20) and its corners alone are particles: second_order = \"all-nodes\" in the body makes every node one, about twice the spacings across the contact"
+        } else if self.refinable {
+            "; refine = 1 in the body cuts every tet and hex into eight at its edges' midpoints, about twice the spacings across the contact at about seven times the particles"
+        } else {
+            ""
+        }
+    }
+
+    /// The resolution with the slave's mesh hints ([`Self::mesh_hint`]) taken from its case.
+    pub fn with_mesh_hints(self, case: &PdCase) -> Self {
+        ContactResolution {
+            second_order_corners: case.corners_of_second_order(),
+            refinable: case.refinable(),
+            ..self
+        }
     }
 
     /// Where the areas were measured, as warnings say it.
