@@ -10,6 +10,7 @@ or two other settings a user might pick: another 3D or 2D algorithm, a random
 seed, millimetres, second order, tets split into hexes, an extruded disc. Then:
 
     pdcontact validate --mesh OUT_DIR/NAME.EXT [--case roller]
+    pdcontact convert OUT_DIR/torus_t4.msh -o DIR --json   # the surface on other shapes
 
 CDB versions: python3 tools/mesh_to_cdb.py OUT_DIR/t4_hxt_06.msh t4_hxt_06.cdb
 Needs: python3 -m pip install gmsh==4.15.2
@@ -21,6 +22,8 @@ import gmsh
 
 # name: (shape, h, options, file suffix)
 #   shape: ("sphere", R, centre) | ("cylinder", R, length) | ("extruded", R, length, quads)
+#          | ("torus", R, r) | ("box",) | ("box_with_hole",): shapes for the eigenvalue
+#          surface and the surface correction only
 VARIANTS = {
     "t4_hxt_06": (("sphere", 1.0, (0, 0, 0)), 0.06, {"Mesh.Algorithm3D": 10}, "msh"),
     "t4_frontal_05": (("sphere", 1.0, (0, 0, 0)), 0.05, {"Mesh.Algorithm3D": 4}, "inp"),
@@ -36,6 +39,10 @@ VARIANTS = {
     "cyl_z_L05_h004": (("cylinder", 1.0, 0.5), 0.04, {}, "msh"),
     "ext_1": (("extruded", 1.0, 0.3, True), 0.05, {}, "inp"),
     "ext_0": (("extruded", 1.0, 0.3, False), 0.05, {}, "inp"),
+    "torus_t4": (("torus", 1.0, 0.35), 0.06, {}, "msh"),
+    "box_t4": (("box",), 0.08, {}, "msh"),
+    "boxhole_t4": (("box_with_hole",), 0.08, {}, "msh"),
+    "boxhole_hx": (("box_with_hole",), 0.16, {"Mesh.SubdivisionAlgorithm": 2}, "msh"),
 }
 
 
@@ -44,6 +51,15 @@ def build(shape):
     if shape[0] == "sphere":
         _, r, c = shape
         occ.addSphere(*c, r)
+    elif shape[0] == "torus":
+        _, big, small = shape
+        occ.addTorus(0, 0, 0, big, small)
+    elif shape[0] == "box":
+        occ.addBox(-1, -1, -0.5, 2, 2, 1)
+    elif shape[0] == "box_with_hole":
+        box = occ.addBox(-1, -1, -0.5, 2, 2, 1)
+        hole = occ.addCylinder(0, 0, -0.6, 0, 0, 1.2, 0.4)
+        occ.cut([(3, box)], [(3, hole)])
     elif shape[0] == "cylinder":
         _, r, length = shape
         occ.addCylinder(0, 0, -length / 2, 0, 0, length, r)
