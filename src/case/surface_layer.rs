@@ -23,6 +23,7 @@
 
 use pdcontact_importers::{BoundaryFace, Mesh};
 
+use crate::case::segments::quad_area_normal;
 use crate::math::Vec3;
 
 /// Which volume a surface particle carries.
@@ -69,18 +70,11 @@ pub fn even_surface_layer(
     let mut ring: Vec<Vec<u32>> = vec![Vec::new(); n];
     for f in surface {
         let c = f.corners();
-        // Twice the area vector: the cross product of the diagonals for a quad (exact for a
-        // planar one, the mean normal of a warped one), of two edges for a triangle.
-        let twice = if c.len() == 3 {
-            (p(c[1]) - p(c[0])).cross(&(p(c[2]) - p(c[0])))
-        } else {
-            (p(c[2]) - p(c[0])).cross(&(p(c[3]) - p(c[1])))
-        };
-        let a = 0.5 * twice.norm();
+        // The master segments' area and normal (Eq. 18's diagonals; a triangle as `[a, b, c, c]`).
+        let (a, normal) = quad_area_normal(f.nodes.map(p));
         if a <= 0.0 {
             continue;
         }
-        let normal = twice / (2.0 * a);
         for &node in c {
             let i = node as usize;
             area[i] += a / c.len() as f64;
