@@ -108,7 +108,8 @@ impl ConvertSummary {
         }
     }
 
-    /// Readable lines for the terminal.
+    /// Readable lines for the terminal; the warnings are not among them (`pdcontact convert`
+    /// prints those on stderr, as `run` does).
     pub fn to_text(&self) -> String {
         let mut text = format!(
             "particles {} (volume {:.6e}, mesh {:.6e}, {:+.3} %)\n\
@@ -154,7 +155,6 @@ impl ConvertSummary {
                 self.horizon / self.spacing
             ));
         }
-        // The warnings go to stderr (`pdcontact convert` prints them there, as `run` does).
         text
     }
 }
