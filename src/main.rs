@@ -118,9 +118,12 @@ enum Command {
         second_order: Option<SecondOrderArg>,
         /// With --mesh: cut every tet and hex into eight at its edges' midpoints, N times,
         /// before the nodes become particles (twice the spacings across the contact per level,
-        /// about seven times the particles; written into the scene).
-        #[arg(long, value_name = "N", default_value_t = 0, requires = "mesh")]
-        refine: u32,
+        /// about seven times the particles; written into the scene). Default 0; where the
+        /// contact spans fewer than 5 spacings and none of --refine, --second-order and
+        /// --horizon-factor is given, a second row shows the mesh refined once (a second-order
+        /// mesh: with all its nodes).
+        #[arg(long, value_name = "N", requires = "mesh")]
+        refine: Option<u32>,
         /// Output folder (one subfolder per run).
         #[arg(short, long, default_value = "pdcontact-validate")]
         output: PathBuf,
@@ -434,7 +437,10 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                     &pdcontact::studies::user_mesh::BodyChoices {
                         horizon_factor,
                         second_order: second_order.map(Into::into).unwrap_or_default(),
-                        refine,
+                        refine: refine.unwrap_or(0),
+                        compare: refine.is_none()
+                            && second_order.is_none()
+                            && horizon_factor.is_none(),
                     },
                     &output,
                     quiet,

@@ -30,7 +30,7 @@ use serde::Serialize;
 use crate::case::discretize::{discretize, Discretization};
 use crate::case::{SecondOrder, DEFAULT_HORIZON_FACTOR};
 use crate::error::{Error, Result};
-use crate::importers::{boundary_faces, Format, Mesh};
+use crate::importers::{boundary_faces, ElementKind, Format, Mesh};
 use crate::math::Vec3;
 use crate::output::analysis::e_star_rigid;
 use crate::studies::comparison::{run_case, ValidationRow};
@@ -50,6 +50,9 @@ pub const MAX_CONTACT_RATIO: f64 = 0.5;
 pub const SHAPE_TOLERANCE: f64 = 0.03;
 /// Below this many particle spacings across the contact radius the figures are coarse.
 pub const MIN_CONTACT_SPACINGS: f64 = 5.0;
+/// The most particles [`Remedy`]'s run may have (the mesh's count times eight): about four
+/// minutes on two cores.
+pub const REMEDY_MAX_PARTICLES: usize = 400_000;
 /// Penalty radius of the contact over the body's radius: 10⁴ m on R = 1 m, scaled with the
 /// body. At a/Δ = 4.6 a particle at the peak sinks 0.3 % of Hertz's approach
 /// ([`crate::contact::estimate::PENALTY_TARGET`]); the 100 R of the other validation scenes let
@@ -99,7 +102,10 @@ pub struct MeshValidation {
     pub warnings: Vec<String>,
     /// The scene that was run.
     pub scene: PathBuf,
+    /// The mesh as it is, then, where [`Remedy`] ran, the finer particles.
     pub rows: Vec<ValidationRow>,
+    /// The second row's particles, where the contact was poorly resolved on the mesh's own.
+    pub remedy: Option<Remedy>,
 }
 
 impl MeshValidation {
@@ -144,6 +150,17 @@ impl MeshValidation {
             out.push_str(&format!(
                 "\nScene: {}\nFrames: {}\nChart: {}\n",
                 self.scene.display(),
+                r.output_pvd.display(),
+                r.chart.display()
+            ));
+        }
+        if let (Some(m), Some(r)) = (&self.remedy, self.rows.get(1)) {
+            out.push_str(&format!(
+                "\nSecond row: the same mesh with `{}` on the body (a/Δ = {:.2}, Δ = {:.4} m): put that key in your scene's [[body]] for these figures.\nScene: {}\nFrames: {}\nChart: {}\n",
+                m.key,
+                m.contact_spacings,
+                m.spacing,
+                m.scene.display(),
                 r.output_pvd.display(),
                 r.chart.display()
             ));
@@ -327,6 +344,25 @@ pub struct BodyChoices {
     pub second_order: SecondOrder,
     /// Levels of uniform refinement ([`crate::case::refine`]).
     pub refine: u32,
+    /// Where the contact spans fewer than [`MIN_CONTACT_SPACINGS`] spacings, also run the body
+    /// with the finer particles that the mesh allows ([`Remedy`]), as a second row: what the
+    /// mesh gives as it is, and what one key in the scene gives. The command line sets it
+    /// when the user chose none of the horizon, `refine` and `second_order`.
+    pub compare: bool,
+}
+
+/// The finer particles `validate --mesh` runs beside the mesh's own when the contact is
+/// poorly resolved ([`BodyChoices::compare`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct Remedy {
+    /// The scene key that gives it: `refine = 1` or `second_order = "all-nodes"`.
+    pub key: String,
+    /// The particle spacing at the contact with it, m.
+    pub spacing: f64,
+    /// `a/Δ` with it.
+    pub contact_spacings: f64,
+    /// Its scene.
+    pub scene: PathBuf,
 }
 
 /// The validation case of `shape`, measured on the mesh at `mesh` (an absolute path), with
@@ -538,6 +574,29 @@ pub fn validate_mesh(
     drop(data);
     let corners_of_second_order =
         body.second_order == SecondOrder::Corners && crate::importers::has_splittable(&mesh);
+    let refinable = body.refine == 0
+        && mesh
+            .solids()
+            .all(|e| matches!(e.kind, ElementKind::Tet4 | ElementKind::Hex8));
+    // The finer particles the mesh allows, should the contact be poorly resolved on its own.
+    let finer = if !body.compare {
+        None
+    } else if corners_of_second_order {
+        Some(BodyChoices {
+            second_order: SecondOrder::AllNodes,
+            compare: false,
+            ..*body
+        })
+    } else if refinable {
+        Some(BodyChoices {
+            refine: 1,
+            compare: false,
+            ..*body
+        })
+    } else {
+        None
+    };
+    let original = finer.as_ref().map(|_| mesh.clone());
     let mesh = crate::case::refine(body.second_order.apply(mesh), body.refine);
     let particles = discretize(&mesh, None)?;
     let spacing = particles.spacing;
@@ -546,12 +605,21 @@ pub fn validate_mesh(
     let a = ratio * shape.radius;
     let contact_spacing = spacing_at_contact(&particles, &shape, a);
     let contact_spacings = a / contact_spacing;
+    let count = particles.position.len();
+    drop(particles);
     let mut warnings = Vec::new();
-    if contact_spacings < MIN_CONTACT_SPACINGS {
+    let poor = contact_spacings < MIN_CONTACT_SPACINGS;
+    let finer = finer.filter(|_| poor && 8 * count <= REMEDY_MAX_PARTICLES);
+    if poor {
         warnings.push(format!(
             "the contact spans only {contact_spacings:.1} spacings (a/Δ < {MIN_CONTACT_SPACINGS}); expect larger errors; refine the mesh near the contact (on tets, --horizon-factor 2.5 narrows a contact that the default horizon makes too wide: docs/VALIDATION.md)"
         ));
-        if corners_of_second_order {
+        let key = finer.as_ref().map(remedy_key);
+        if let Some(key) = key {
+            warnings.push(format!(
+                "the second row runs the same mesh with `{key}` on the body: about twice the spacings across the contact, at about seven times the particles"
+            ));
+        } else if corners_of_second_order {
             warnings.push(
                 "the mesh is second order (tet10 or hex20) and its corners alone are the particles: --second-order all-nodes makes every node a particle (each element cut into eight), about twice the spacings across the contact".to_string(),
             );
@@ -571,10 +639,48 @@ pub fn validate_mesh(
             shape.radius
         );
     }
-    let rows = run_case(&case, folder, quiet)?;
-    let scene = folder
-        .join(format!("{}-{}", case.problem.name(), case.label))
-        .join("scene.toml");
+    let mut rows = run_case(&case, folder, quiet)?;
+    let scene_of = |case: &ValidationCase| {
+        folder
+            .join(format!("{}-{}", case.problem.name(), case.label))
+            .join("scene.toml")
+    };
+    let scene = scene_of(&case);
+    let mut remedy = None;
+    if let (Some(choice), Some(mesh)) = (finer, original) {
+        let key = remedy_key(&choice);
+        let mesh = crate::case::refine(choice.second_order.apply(mesh), choice.refine);
+        let particles = discretize(&mesh, None)?;
+        drop(mesh);
+        let spacing = spacing_at_contact(&particles, &shape, a);
+        drop(particles);
+        let mut case = mesh_case(&absolute, format, &shape, spacing, ratio, &choice);
+        case.label = "mesh-finer".into();
+        if !quiet {
+            eprintln!(
+                "{} on {} with `{key}`: Δ = {spacing:.4} m, a/Δ = {:.1} ...",
+                case.problem.name(),
+                path.display(),
+                a / spacing
+            );
+        }
+        let mut more = run_case(&case, folder, quiet)?;
+        // The table's "theory" column names the row: 12 characters at most.
+        let label = match choice.second_order {
+            SecondOrder::AllNodes => "all nodes".to_string(),
+            SecondOrder::Corners => key.clone(),
+        };
+        for row in &mut more {
+            row.variant = label.clone();
+        }
+        rows.extend(more);
+        remedy = Some(Remedy {
+            key,
+            spacing,
+            contact_spacings: a / spacing,
+            scene: scene_of(&case),
+        });
+    }
     Ok(MeshValidation {
         mesh: path.to_path_buf(),
         format: format_used.name().into(),
@@ -585,7 +691,17 @@ pub fn validate_mesh(
         warnings,
         scene,
         rows,
+        remedy,
     })
+}
+
+/// The scene key of a [`Remedy`].
+fn remedy_key(choice: &BodyChoices) -> String {
+    if choice.second_order == SecondOrder::AllNodes {
+        "second_order = \"all-nodes\"".into()
+    } else {
+        format!("refine = {}", choice.refine)
+    }
 }
 
 /// The particle spacing where the contact will be: Δ on a mesh of one size, the median local
