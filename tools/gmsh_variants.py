@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Mesh the Hertz sphere and roller the other ways users mesh them with gmsh.
 
-    python3 tools/gmsh_variants.py OUT_DIR [NAME ...]
+    python3 tools/gmsh_variants.py OUT_DIR [NAME ... | --roller-sweep]
 
 Writes the meshes of docs/VALIDATION.md, "Meshes made other ways", into OUT_DIR
 (all of them, or the NAMEs given). Each is an OpenCASCADE sphere (R = 1 m) or
@@ -45,6 +45,19 @@ VARIANTS = {
     "boxhole_hx": (("box_with_hole",), 0.16, {"Mesh.SubdivisionAlgorithm": 2}, "msh"),
 }
 
+# `--roller-sweep`: the 0.3 m cylinder at eight sizes, gmsh's default seed and seed 3
+# (docs/VALIDATION.md, "Eight sizes, two seeds").
+SWEEP = {
+    f"roller_sweep_{h}_{seed}": (
+        ("cylinder", 1.0, 0.3),
+        h,
+        {"Mesh.RandomSeed": seed, "Mesh.RandomFactor": 1e-6} if seed else {},
+        "msh",
+    )
+    for h in (0.07, 0.065, 0.06, 0.055, 0.05, 0.045, 0.04, 0.035)
+    for seed in (0, 3)
+}
+
 
 def build(shape):
     occ = gmsh.model.occ
@@ -74,7 +87,7 @@ def build(shape):
 
 
 def write(name, out_dir):
-    shape, h, options, suffix = VARIANTS[name]
+    shape, h, options, suffix = {**VARIANTS, **SWEEP}[name]
     gmsh.initialize()
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.model.add(name)
@@ -101,7 +114,9 @@ def main():
     out_dir = Path(sys.argv[1])
     out_dir.mkdir(parents=True, exist_ok=True)
     names = sys.argv[2:] or list(VARIANTS)
-    unknown = [n for n in names if n not in VARIANTS]
+    if names == ["--roller-sweep"]:
+        names = list(SWEEP)
+    unknown = [n for n in names if n not in VARIANTS and n not in SWEEP]
     if unknown:
         sys.exit(f"unknown variant(s) {', '.join(unknown)}; expected some of {', '.join(VARIANTS)}")
     for name in names:
