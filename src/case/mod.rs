@@ -290,6 +290,17 @@ pub fn refine(mesh: Mesh, levels: u32) -> Mesh {
     mesh
 }
 
+/// A first-order mesh of tets and hexes only, which [`refine`] cuts (second-order elements
+/// have `second_order = "all-nodes"` instead).
+pub fn refinable_mesh(mesh: &Mesh) -> bool {
+    mesh.solids().all(|e| {
+        matches!(
+            e.kind,
+            pdcontact_importers::ElementKind::Tet4 | pdcontact_importers::ElementKind::Hex8
+        )
+    })
+}
+
 /// Options of the discretisation.
 #[derive(Clone, Debug)]
 pub struct CaseOptions {
@@ -386,13 +397,7 @@ impl PdCase {
 
     /// A first-order mesh of tets and hexes that was not refined: `refine = 1` would cut it.
     pub fn refinable(&self) -> bool {
-        self.refine == 0
-            && self.mesh.solids().all(|e| {
-                matches!(
-                    e.kind,
-                    pdcontact_importers::ElementKind::Tet4 | pdcontact_importers::ElementKind::Hex8
-                )
-            })
+        self.refine == 0 && refinable_mesh(&self.mesh)
     }
 
     /// Builds the case from a mesh.

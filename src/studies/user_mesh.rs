@@ -30,7 +30,7 @@ use serde::Serialize;
 use crate::case::discretize::{discretize, Discretization};
 use crate::case::{SecondOrder, DEFAULT_HORIZON_FACTOR};
 use crate::error::{Error, Result};
-use crate::importers::{boundary_faces, ElementKind, Format, Mesh};
+use crate::importers::{boundary_faces, Format, Mesh};
 use crate::math::Vec3;
 use crate::output::analysis::e_star_rigid;
 use crate::studies::comparison::{run_case, ValidationRow};
@@ -574,10 +574,7 @@ pub fn validate_mesh(
     drop(data);
     let corners_of_second_order =
         body.second_order == SecondOrder::Corners && crate::importers::has_splittable(&mesh);
-    let refinable = body.refine == 0
-        && mesh
-            .solids()
-            .all(|e| matches!(e.kind, ElementKind::Tet4 | ElementKind::Hex8));
+    let refinable = body.refine == 0 && crate::case::refinable_mesh(&mesh);
     // The finer particles the mesh allows, should the contact be poorly resolved on its own.
     let finer = if !body.compare {
         None
