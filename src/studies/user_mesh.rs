@@ -620,7 +620,7 @@ pub fn validate_mesh(
             warnings.push(
                 "the mesh is second order (tet10 or hex20) and its corners alone are the particles: --second-order all-nodes makes every node a particle (each element cut into eight), about twice the spacings across the contact".to_string(),
             );
-        } else if body.refine == 0 {
+        } else if refinable {
             warnings.push(
                 "--refine 1 cuts every tet and hex into eight at its edges' midpoints: about twice the spacings across the contact, at about seven times the particles".to_string(),
             );
