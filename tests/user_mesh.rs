@@ -164,6 +164,39 @@ fn the_second_row_only_when_the_user_chose_nothing() {
         .any(|w| w.as_str().is_some_and(|w| w.contains("--refine 1"))));
     let _ = std::fs::remove_dir_all(&dir);
 
+    // The first row stands when the second cannot be written: a warning says why.
+    let blocked = temp_dir("second-row-blocked");
+    std::fs::write(
+        blocked.join("sphere-mesh-finer"),
+        b"a file where the folder goes",
+    )
+    .expect("file");
+    let report = validate_mesh(
+        &mesh,
+        None,
+        Problem::Sphere,
+        CONTACT_RATIO,
+        &BodyChoices {
+            compare: true,
+            ..Default::default()
+        },
+        &blocked,
+        true,
+    )
+    .expect("the first row runs");
+    assert_eq!(report.rows.len(), 1);
+    assert!(report.remedy.is_none());
+    assert!(
+        report
+            .warnings
+            .iter()
+            .any(|w| w.contains("second row (`refine = 1`) did not run")
+                && w.contains("sphere-mesh-finer")),
+        "{:?}",
+        report.warnings
+    );
+    let _ = std::fs::remove_dir_all(&blocked);
+
     // More than three levels (about 7⁴ times the particles) is refused before the mesh is read.
     let out = validate(&["--mesh", "no-such-file.msh", "--refine", "4", "--quiet"]);
     assert_eq!(out.status.code(), Some(2));

@@ -637,46 +637,22 @@ pub fn validate_mesh(
         );
     }
     let mut rows = run_case(&case, folder, quiet)?;
-    let scene_of = |case: &ValidationCase| {
-        folder
-            .join(format!("{}-{}", case.problem.name(), case.label))
-            .join("scene.toml")
-    };
-    let scene = scene_of(&case);
+    let scene = scene_path(folder, &case);
     let mut remedy = None;
     if let (Some(choice), Some(mesh)) = (finer, original) {
-        let key = remedy_key(&choice);
-        let mesh = crate::case::refine(choice.second_order.apply(mesh), choice.refine);
-        let particles = discretize(&mesh, None)?;
-        drop(mesh);
-        let spacing = spacing_at_contact(&particles, &shape, a);
-        drop(particles);
-        let mut case = mesh_case(&absolute, format, &shape, spacing, ratio, &choice);
-        case.label = "mesh-finer".into();
-        if !quiet {
-            eprintln!(
-                "{} on {} with `{key}`: Δ = {spacing:.4} m, a/Δ = {:.1} ...",
-                case.problem.name(),
-                path.display(),
-                a / spacing
-            );
+        // The first row stands whatever becomes of the second: a failure there is a warning.
+        match run_finer(
+            mesh, &choice, &absolute, format, &shape, ratio, folder, quiet,
+        ) {
+            Ok((more, m)) => {
+                rows.extend(more);
+                remedy = Some(m);
+            }
+            Err(e) => warnings.push(format!(
+                "the second row (`{}`) did not run: {e}",
+                remedy_key(&choice)
+            )),
         }
-        let mut more = run_case(&case, folder, quiet)?;
-        // The table's "theory" column names the row: 12 characters at most.
-        let label = match choice.second_order {
-            SecondOrder::AllNodes => "all nodes".to_string(),
-            SecondOrder::Corners => key.clone(),
-        };
-        for row in &mut more {
-            row.variant = label.clone();
-        }
-        rows.extend(more);
-        remedy = Some(Remedy {
-            key,
-            spacing,
-            contact_spacings: a / spacing,
-            scene: scene_of(&case),
-        });
     }
     Ok(MeshValidation {
         mesh: path.to_path_buf(),
@@ -690,6 +666,64 @@ pub fn validate_mesh(
         rows,
         remedy,
     })
+}
+
+/// The second row of [`validate_mesh`]: `mesh` (as read) with the finer particles of `choice`,
+/// its case written to `folder/<problem>-mesh-finer/`.
+#[allow(clippy::too_many_arguments)]
+fn run_finer(
+    mesh: Mesh,
+    choice: &BodyChoices,
+    absolute: &Path,
+    format: Option<Format>,
+    shape: &MeshShape,
+    ratio: f64,
+    folder: &Path,
+    quiet: bool,
+) -> Result<(Vec<ValidationRow>, Remedy)> {
+    let key = remedy_key(choice);
+    let a = ratio * shape.radius;
+    let mesh = crate::case::refine(choice.second_order.apply(mesh), choice.refine);
+    let particles = discretize(&mesh, None)?;
+    drop(mesh);
+    let spacing = spacing_at_contact(&particles, shape, a);
+    drop(particles);
+    let mut case = mesh_case(absolute, format, shape, spacing, ratio, choice);
+    case.label = "mesh-finer".into();
+    if !quiet {
+        eprintln!(
+            "{} on {} with `{key}`: Δ = {spacing:.4} m, a/Δ = {:.1} ...",
+            case.problem.name(),
+            absolute.display(),
+            a / spacing
+        );
+    }
+    let mut rows = run_case(&case, folder, quiet)?;
+    // The table's "theory" column names the row: 12 characters at most.
+    let label = match choice.second_order {
+        SecondOrder::AllNodes => "all nodes".to_string(),
+        SecondOrder::Corners => key.clone(),
+    };
+    for row in &mut rows {
+        row.variant = label.clone();
+    }
+    let scene = scene_path(folder, &case);
+    Ok((
+        rows,
+        Remedy {
+            key,
+            spacing,
+            contact_spacings: a / spacing,
+            scene,
+        },
+    ))
+}
+
+/// Where [`run_case`] writes the scene of `case`.
+fn scene_path(folder: &Path, case: &ValidationCase) -> PathBuf {
+    folder
+        .join(format!("{}-{}", case.problem.name(), case.label))
+        .join("scene.toml")
 }
 
 /// The scene key of a [`Remedy`].
