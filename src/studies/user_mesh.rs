@@ -593,7 +593,6 @@ pub fn validate_mesh(
     } else {
         None
     };
-    let original = finer.as_ref().map(|_| mesh.clone());
     let mesh = crate::case::refine(body.second_order.apply(mesh), body.refine);
     let particles = discretize(&mesh, None)?;
     let spacing = particles.spacing;
@@ -639,10 +638,17 @@ pub fn validate_mesh(
     let mut rows = run_case(&case, folder, quiet)?;
     let scene = scene_path(folder, &case);
     let mut remedy = None;
-    if let (Some(choice), Some(mesh)) = (finer, original) {
+    if let Some(choice) = finer {
         // The first row stands whatever becomes of the second: a failure there is a warning.
         match run_finer(
-            mesh, &choice, &absolute, format, &shape, ratio, folder, quiet,
+            format_used,
+            &choice,
+            &absolute,
+            format,
+            &shape,
+            ratio,
+            folder,
+            quiet,
         ) {
             Ok((more, m)) => {
                 rows.extend(more);
@@ -668,11 +674,12 @@ pub fn validate_mesh(
     })
 }
 
-/// The second row of [`validate_mesh`]: `mesh` (as read) with the finer particles of `choice`,
-/// its case written to `folder/<problem>-mesh-finer/`.
+/// The second row of [`validate_mesh`]: the mesh at `absolute`, read again (only where the
+/// row runs, rather than a copy of it held on every run), with the finer particles of
+/// `choice`; its case written to `folder/<problem>-mesh-finer/`.
 #[allow(clippy::too_many_arguments)]
 fn run_finer(
-    mesh: Mesh,
+    format_used: Format,
     choice: &BodyChoices,
     absolute: &Path,
     format: Option<Format>,
@@ -683,6 +690,11 @@ fn run_finer(
 ) -> Result<(Vec<ValidationRow>, Remedy)> {
     let key = remedy_key(choice);
     let a = ratio * shape.radius;
+    let data = std::fs::read(absolute).map_err(|e| {
+        crate::importers::ImportError::whole_file(absolute, "a readable file", e.to_string())
+    })?;
+    let mesh = crate::importers::read_format(absolute, &data, format_used)?;
+    drop(data);
     let mesh = crate::case::refine(choice.second_order.apply(mesh), choice.refine);
     let particles = discretize(&mesh, None)?;
     drop(mesh);
