@@ -139,6 +139,49 @@ fn sphere_on_the_stored_tet_mesh() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `--skin-correction` on the same two stored tet meshes, at the file's nodes: the surface row
+/// stiffened along its normal (`skin_correction = true`, src/case/skin.rs). Measured: sphere
+/// (a/Δ = 3.9) MRE 6.08 → 2.68 %, radius +5.57 → −1.66 %, peak −4.6 → +3.0 %; roller (a/Δ =
+/// 4.8) 3.30 → 1.66 %, half-width +1.37 → −0.69 %, peak −0.1 → +2.8 %. The scene carries the
+/// key, and the warning no longer proposes it.
+#[test]
+fn skin_correction_on_the_stored_tet_meshes() {
+    let dir = temp_dir("skin");
+    let sphere = validate_json(
+        &repo("meshes/sphere_tet4_h007.msh"),
+        &["--skin-correction", "--refine", "0"],
+        &dir,
+    );
+    let roller = validate_json(
+        &repo("meshes/cylinder_tet4_h006.msh"),
+        &["--case", "roller", "--skin-correction", "--refine", "0"],
+        &dir,
+    );
+    for (v, mre, size, peak) in [(&sphere, 0.035, 0.03, 0.06), (&roller, 0.025, 0.02, 0.05)] {
+        let rows = v["rows"].as_array().expect("rows");
+        assert_eq!(rows.len(), 1);
+        let f = |k: &str| rows[0][k].as_f64().unwrap_or(f64::NAN);
+        assert!(f("mre") < mre, "MRE {} on {}", f("mre"), v["mesh"]);
+        assert!(f("radius_error").abs() < size, "a {}", f("radius_error"));
+        assert!(f("peak_error").abs() < peak, "peak {}", f("peak_error"));
+        assert!(f("force_balance_error") < 1e-3);
+        let warnings = format!("{}", v["warnings"]);
+        assert!(warnings.contains("spans only"), "{warnings}");
+        assert!(!warnings.contains("--skin-correction"), "{warnings}");
+        let scene =
+            std::fs::read_to_string(v["scene"].as_str().expect("scene path")).expect("the scene");
+        assert!(scene.contains("\nskin_correction = true "), "{scene}");
+    }
+    // Without it the warning names it.
+    let plain = validate_json(
+        &repo("meshes/cylinder_tet4_h006.msh"),
+        &["--case", "roller", "--refine", "0"],
+        &dir,
+    );
+    assert!(format!("{}", plain["warnings"]).contains("--skin-correction"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The second row is the command's own choice, on meshes/sphere_tet4.msh (h = 0.15 m, a/Δ =
 /// 1.9; measured: 19.3 % on its 1,308 nodes, 9.0 % on the 8,872 particles of `refine = 1`):
 /// `--refine 0`, like any of the body's settings, keeps the mesh's nodes alone, with the hint

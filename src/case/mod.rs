@@ -23,6 +23,7 @@ pub mod generators;
 pub mod neighbours;
 pub mod pairs;
 pub mod segments;
+pub mod skin;
 pub mod spacing;
 pub mod surface;
 pub mod surface_layer;
@@ -37,6 +38,7 @@ use crate::case::correction::{
 use crate::case::discretize::{discretize, Discretization};
 use crate::case::neighbours::{build_bonds_from, build_bonds_variable, BondList};
 use crate::case::segments::{master_segments, SegmentSet};
+use crate::case::skin::{skin_correction, SkinCorrection, SkinInput};
 use crate::case::surface::{detect_surface, SurfaceDetection, NORMAL_KERNEL_WIDTH};
 use crate::case::surface_layer::even_surface_layer;
 pub use crate::case::surface_layer::SurfaceVolume;
@@ -321,6 +323,8 @@ pub struct CaseOptions {
     pub refine: u32,
     /// Which volume a surface particle carries ([`SurfaceVolume`]).
     pub surface_volume: SurfaceVolume,
+    /// Stiffen the surface row's normal bonds ([`skin`]).
+    pub skin_correction: bool,
 }
 
 impl Default for CaseOptions {
@@ -334,6 +338,7 @@ impl Default for CaseOptions {
             second_order: SecondOrder::Corners,
             refine: 0,
             surface_volume: SurfaceVolume::PerArea,
+            skin_correction: false,
         }
     }
 }
@@ -382,6 +387,8 @@ pub struct PdCase {
     pub bonds: BondList,
     pub surface: SurfaceDetection,
     pub correction: SurfaceCorrection,
+    /// The skin correction's factors, where it was asked for ([`skin`]).
+    pub skin: Option<SkinCorrection>,
     pub segments: SegmentSet,
     /// Mirror images across symmetry planes (empty without planes).
     pub ghosts: Ghosts,
@@ -533,6 +540,23 @@ impl PdCase {
         let segments = master_segments(&faces, &particles, &surface.is_surface);
         times.segments = t.elapsed().as_secs_f64();
 
+        // After the segments: the skin correction balances each surface particle against the
+        // area its contact force acts on.
+        let mut correction = correction;
+        let skin = options.skin_correction.then(|| {
+            let input = SkinInput {
+                position: &position,
+                partner_volume: &ghosts.partner_volumes(&particles.volume),
+                volume: &particles.volume,
+                is_surface: &surface.is_surface,
+                normal: &surface.normal,
+                pressure_area: &segments.pressure_area,
+                ghosts: &ghosts,
+                horizon,
+            };
+            skin_correction(&input, &bonds, &mut correction.bond_factor)
+        });
+
         Ok(PdCase {
             mesh,
             faces,
@@ -546,6 +570,7 @@ impl PdCase {
             bonds,
             surface,
             correction,
+            skin,
             segments,
             ghosts,
             times,

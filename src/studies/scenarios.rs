@@ -111,6 +111,42 @@ pub struct ValidationCase {
     pub reference: Reference,
 }
 
+impl ValidationCase {
+    /// The same case with `skin_correction = true` on every deformable body
+    /// ([`crate::case::skin`]), run into `<problem>-<label>-skin/`.
+    pub fn with_skin_correction(mut self) -> Self {
+        let mut out = String::with_capacity(self.scene.len() + 64);
+        let mut lines = self.scene.lines().peekable();
+        while let Some(line) = lines.next() {
+            out.push_str(line);
+            out.push('\n');
+            if line.trim() != "[[body]]" {
+                continue;
+            }
+            // The body's own keys run to the next table header that is not one of its
+            // sub-tables.
+            let mut block = Vec::new();
+            while let Some(next) = lines.peek() {
+                let t = next.trim_start();
+                if t.starts_with('[') && !t.starts_with("[body.") {
+                    break;
+                }
+                block.push(lines.next().unwrap_or_default());
+            }
+            if !block.iter().any(|l| l.replace(' ', "") == "kind=\"rigid\"") {
+                out.push_str("skin_correction = true\n");
+            }
+            for l in block {
+                out.push_str(l);
+                out.push('\n');
+            }
+        }
+        self.scene = out;
+        self.label.push_str("-skin");
+        self
+    }
+}
+
 fn material() -> String {
     format!("[body.material]\nyoungs_modulus = {YOUNGS:e}\npoisson_ratio = {POISSON}\ndensity = {DENSITY}\n")
 }
@@ -644,3 +680,36 @@ pub const STUDY_DAMPING: f64 = 1500.0;
 /// Simulated time of the explicit study runs (s): the velocities have decayed by
 /// e^{−c t} = e^{−30} by then.
 pub const STUDY_END_TIME: f64 = 0.02;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{BodyKind, Scene};
+
+    /// `validate --skin-correction`: every stored scene still parses and checks, with the key
+    /// on each deformable body and on no rigid one, and runs into its own folder.
+    #[test]
+    fn skin_correction_marks_the_deformable_bodies() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mesh = root.join("meshes").join(SPHERE_MESH_NAME);
+        let problems = [Problem::Sphere, Problem::Roller, Problem::Punch];
+        let all = cases(&problems, &[Set::Paper, Set::Hertz], &mesh);
+        assert_eq!(all.len(), 6);
+        for case in all {
+            let plain = Scene::parse(&case.scene, "plain", root).expect("scene");
+            let label = case.label.clone();
+            let skin = case.with_skin_correction();
+            assert_eq!(skin.label, format!("{label}-skin"));
+            let marked = Scene::parse(&skin.scene, "skin", root).expect("scene with the key");
+            assert_eq!(plain.bodies.len(), marked.bodies.len());
+            let mut deformable = 0;
+            for (p, m) in plain.bodies.iter().zip(&marked.bodies) {
+                assert_eq!(p.skin_correction, None);
+                let want = (m.kind == BodyKind::Deformable).then_some(true);
+                deformable += usize::from(want.is_some());
+                assert_eq!(m.skin_correction, want, "{}: {}", skin.label, m.name);
+            }
+            assert!(deformable >= 1);
+        }
+    }
+}

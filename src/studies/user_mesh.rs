@@ -344,6 +344,8 @@ pub struct BodyChoices {
     pub second_order: SecondOrder,
     /// Levels of uniform refinement ([`crate::case::refine`]).
     pub refine: u32,
+    /// The skin correction ([`crate::case::skin`]).
+    pub skin_correction: bool,
     /// Where the contact spans fewer than [`MIN_CONTACT_SPACINGS`] spacings, also run the body
     /// with the finer particles that the mesh allows ([`Remedy`]), as a second row: what the
     /// mesh gives as it is, and what one key in the scene gives. The command line sets it
@@ -448,6 +450,11 @@ pub fn mesh_case(
             "refine = {n}                    # each tet and hex cut into eight at its edges' midpoints\n"
         ),
     };
+    let skin_line = if body.skin_correction {
+        "skin_correction = true          # the surface row carries a contact's traction (docs/VALIDATION.md)\n"
+    } else {
+        ""
+    };
     let load_note = match problem {
         Problem::Roller => format!("P = {} N/m over the length", num(load)),
         _ => format!("P = {} N", num(load)),
@@ -466,7 +473,7 @@ every = 1000000
 [[body]]
 name = "{name}"
 mesh = {quoted}
-{format_line}{horizon_line}{second_order_line}{refine_line}kinematics = "small"         # Hertz theory is small-strain: compare like with like
+{format_line}{horizon_line}{second_order_line}{refine_line}{skin_line}kinematics = "small"         # Hertz theory is small-strain: compare like with like
 [body.material]
 youngs_modulus = {e:e}
 poisson_ratio = {POISSON}
@@ -607,8 +614,13 @@ pub fn validate_mesh(
     let poor = contact_spacings < MIN_CONTACT_SPACINGS;
     let finer = finer.filter(|_| poor && 8 * count <= REMEDY_MAX_PARTICLES);
     if poor {
+        let skin = if body.skin_correction {
+            ""
+        } else {
+            "; --skin-correction (`skin_correction = true` on the body) corrects most of what the surface row's softness adds there at no extra particles"
+        };
         warnings.push(format!(
-            "the contact spans only {contact_spacings:.1} spacings (a/Δ < {MIN_CONTACT_SPACINGS}); expect larger errors; refine the mesh near the contact (on tets, --horizon-factor 2.5 narrows a contact that the default horizon makes too wide: docs/VALIDATION.md)"
+            "the contact spans only {contact_spacings:.1} spacings (a/Δ < {MIN_CONTACT_SPACINGS}); expect larger errors, a contact too wide and too low{skin}; or refine the mesh near the contact (docs/VALIDATION.md)"
         ));
         let key = finer.as_ref().map(remedy_key);
         if let Some(key) = key {

@@ -70,6 +70,7 @@ fn table_columns(rows: &[ValidationRow], peak: bool) -> String {
 pub fn run_selection(
     problems: &[Problem],
     sets: &[Set],
+    skin_correction: bool,
     folder: &Path,
     quiet: bool,
 ) -> Result<Selection> {
@@ -81,6 +82,11 @@ pub fn run_selection(
     let mut rows = Vec::new();
     let mut failures = Vec::new();
     for c in cases(problems, sets, &mesh) {
+        let c = if skin_correction {
+            c.with_skin_correction()
+        } else {
+            c
+        };
         if !quiet {
             eprintln!(
                 "{} ({} set): Δ = {:.4} m, m = {} ...",
