@@ -105,10 +105,8 @@ enum Command {
         /// mesh needs a/Δ >= 5 across the contact).
         #[arg(long, value_name = "A_OVER_R", default_value_t = pdcontact::studies::user_mesh::CONTACT_RATIO, requires = "mesh")]
         contact_ratio: f64,
-        /// With --mesh: the horizon δ = MΔ in particle spacings (default 3). Where the contact
-        /// spans few spacings (a/Δ about 5), 2.5 narrows a contact that m = 3 makes too wide on
-        /// tet meshes, at the price of more scatter on irregular ones (tets split into hexes);
-        /// see docs/VALIDATION.md.
+        /// With --mesh: the horizon δ = MΔ in particle spacings (default 3); see
+        /// docs/VALIDATION.md, "Few spacings across the contact".
         #[arg(long, value_name = "M", requires = "mesh")]
         horizon_factor: Option<f64>,
         /// With --mesh: which nodes of a second-order mesh become particles: its corners
@@ -124,11 +122,13 @@ enum Command {
         /// mesh: with all its nodes).
         #[arg(long, value_name = "N", requires = "mesh")]
         refine: Option<u32>,
-        /// Stiffen the surface row's bonds along its normal so that it carries a contact's
-        /// traction as the continuum does (`skin_correction = true` on every deformable body;
-        /// on tet meshes whose contact spans 4-6 spacings, about 6 % MRE becomes 3 %; see
-        /// docs/VALIDATION.md). Not with --study
-        #[arg(long, conflicts_with = "study")]
+        /// The skin correction: the surface row's bonds stiffened along its normal so that it
+        /// carries a contact's traction as the continuum does (the default, as in `run`).
+        /// `false` writes `skin_correction = false` on every deformable body: the balanced
+        /// correction alone, a softer surface row (on tet meshes whose contact spans 4-7
+        /// spacings, MRE 2-6 % instead of 1-3 %; docs/VALIDATION.md, "The skin correction").
+        /// Not with --study
+        #[arg(long, value_name = "BOOL", default_value_t = true, action = clap::ArgAction::Set, conflicts_with = "study")]
         skin_correction: bool,
         /// Output folder (one subfolder per run).
         #[arg(short, long, default_value = "pdcontact-validate")]

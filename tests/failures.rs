@@ -191,14 +191,15 @@ fn nan_from_a_huge_time_step() {
     assert!(f.frames.is_empty(), "{:?}", f.frames);
 }
 
-/// 1.62 × the stable step: slow growth, caught by the energy balance; the frames before the
+/// 1.5 × the stable step (1.62 before the skin correction stiffened the block's surface
+/// row): slow growth, caught by the energy balance; the frames before the
 /// failure stay on disk.
 #[test]
 fn energy_growth_keeps_the_last_good_frame() {
     let f = failing_run(
         "energy",
         &scene(
-            "kind = \"explicit\"\nend_time = 0.2\nsafety = 1.62",
+            "kind = \"explicit\"\nend_time = 0.2\nsafety = 1.5",
             5,
             -1.0,
             CONTACT,

@@ -134,16 +134,16 @@ fn hertz_sphere_cap_on_a_gmsh_default_tet_mesh() {
         true,
         "cap-tet4",
     );
-    // Measured: MRE 1.94 %, radius +3.20 %, peak −1.9 % (own pressures: MRE 3.30 %; with
-    // lumped surface volumes 1.88 %, +3.18 %, +1.66 %, own 4.77 %). The aims: MRE 3 %,
-    // radius 3 % (not yet met at a/h = 7.5), peak 10 %.
+    // Measured: MRE 2.65 %, radius +0.30 %, peak +8.1 % (own pressures: MRE 4.16 %); without
+    // the skin correction 1.94 %, +3.20 %, −1.9 % (own 3.30 %): the contact no longer too
+    // wide, its centre a little high. The aims: MRE 3 %, radius 3 %, peak 10 %.
     assert!(acc.mre < 0.03, "MRE {}", acc.mre);
     assert!(
-        (acc.fitted_radius / a - 1.0).abs() < 0.04,
+        (acc.fitted_radius / a - 1.0).abs() < 0.03,
         "a {}",
         acc.fitted_radius / a
     );
-    assert!((peak / p0 - 1.0).abs() < 0.05, "peak {}", peak / p0);
+    assert!((peak / p0 - 1.0).abs() < 0.1, "peak {}", peak / p0);
     let own = own_pressure_mre(&model, a, p0);
     assert!(own > acc.mre + 0.01, "own {own} recovered {}", acc.mre);
 }
@@ -152,15 +152,16 @@ fn hertz_sphere_cap_on_a_gmsh_default_tet_mesh() {
 fn hertz_sphere_on_a_gmsh_default_tet_mesh() {
     let (model, a, p0, acc, peak) =
         hertz_run(&mesh_path("sphere_tet4_h007.msh"), LOAD, false, "tet4");
-    // Measured: MRE 6.70 %, radius +5.70 %, peak -5.36 % (each particle's own pressure: 6.41 %,
-    // +5.75 %, -2.72 %; on tets the error is the contact's width, not scatter).
-    assert!(acc.mre < 0.075, "MRE {}", acc.mre);
+    // Measured: MRE 2.81 %, radius −1.42 %, peak +2.0 % (each particle's own pressure: 2.73 %).
+    // Without the skin correction 6.70 %, +5.70 %, −5.36 % (own 6.41 %): on tets the error
+    // was the contact's width, the surface row's softness, not scatter.
+    assert!(acc.mre < 0.035, "MRE {}", acc.mre);
     assert!(
-        (acc.fitted_radius / a - 1.0).abs() < 0.07,
+        (acc.fitted_radius / a - 1.0).abs() < 0.03,
         "a {}",
         acc.fitted_radius / a
     );
-    assert!((peak / p0 - 1.0).abs() < 0.07, "peak {}", peak / p0);
+    assert!((peak / p0 - 1.0).abs() < 0.05, "peak {}", peak / p0);
     // The recovered pressure field over the pressure areas A*_i integrates to the contact force.
     let pd = model.bodies[0].as_pd().expect("deformable");
     let p = contact_pressure(&model, 0);
@@ -191,14 +192,15 @@ fn hertz_sphere_on_a_gmsh_default_tet10_mesh() {
         hertz_run(&mesh_path("sphere_tet10_h008.msh"), LOAD, false, "tet10");
     // gmsh's mesh has 55,844 nodes, of which 7,435 are corners of its 38,508 tet10.
     assert_eq!(model.bodies[0].as_pd().expect("deformable").len(), 7435);
-    // Measured: MRE 8.12 %, radius +4.96 %, peak -7.00 % (own pressures: 7.90 %, +7.07 %, -7.54 %).
-    assert!(acc.mre < 0.09, "MRE {}", acc.mre);
+    // Measured: MRE 3.68 %, radius +0.62 %, peak +3.0 % (own pressures: 3.30 %); without the
+    // skin correction 8.12 %, +4.96 %, −7.00 % (own 7.90 %).
+    assert!(acc.mre < 0.045, "MRE {}", acc.mre);
     assert!(
-        (acc.fitted_radius / a - 1.0).abs() < 0.085,
+        (acc.fitted_radius / a - 1.0).abs() < 0.03,
         "a {}",
         acc.fitted_radius / a
     );
-    assert!((peak / p0 - 1.0).abs() < 0.10, "peak {}", peak / p0);
+    assert!((peak / p0 - 1.0).abs() < 0.06, "peak {}", peak / p0);
 }
 
 /// The eigenvalue surface on gmsh's tets split into hexes: exactly the mesh's boundary nodes
@@ -235,14 +237,14 @@ fn eigenvalue_surface_on_tets_split_into_hexes() {
 fn hertz_sphere_on_tets_split_into_hexes() {
     let (model, a, p0, acc, peak) =
         hertz_run(&mesh_path("sphere_hex_h020.msh"), LOAD, false, "hex");
-    // Measured with lumped surface volumes: MRE 6.22 %, radius +2.52 %, peak -0.67 %
-    // (`surface_volume = "per-area"`, the default, lowers both MREs by under a point). Each particle's own pressure gives
-    // 7.53 %, +2.69 %, +0.82 % (23.9 % while interior particles facing the plane counted as
-    // surface): the recovery on the surface takes out the scatter of the irregular cloud.
-    assert!(acc.mre < 0.07, "MRE {}", acc.mre);
+    // Measured: MRE 5.01 %, radius +0.80 %, peak +0.5 %, each particle's own pressure 5.85 %.
+    // Before the skin correction, with lumped surface volumes: 6.22 %, +2.52 %, −0.67 %, own
+    // 7.53 % (23.9 % while interior particles facing the plane counted as surface): the
+    // recovery on the surface takes out the scatter of the irregular cloud.
+    assert!(acc.mre < 0.06, "MRE {}", acc.mre);
     let own_mre = own_pressure_mre(&model, a, p0);
     assert!(
-        own_mre > acc.mre + 0.01,
+        own_mre > acc.mre + 0.005,
         "own {own_mre} recovered {}",
         acc.mre
     );

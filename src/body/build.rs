@@ -356,7 +356,7 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                 second_order: spec.second_order.unwrap_or_default(),
                 refine,
                 surface_volume: spec.surface_volume.unwrap_or_default(),
-                skin_correction: spec.skin_correction.unwrap_or(false),
+                skin_correction: spec.skin_correction.unwrap_or(true),
             };
             let case = PdCase::build(mesh, options).map_err(|e| match e {
                 Error::Input(msg) => {

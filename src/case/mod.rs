@@ -323,7 +323,7 @@ pub struct CaseOptions {
     pub refine: u32,
     /// Which volume a surface particle carries ([`SurfaceVolume`]).
     pub surface_volume: SurfaceVolume,
-    /// Stiffen the surface row's normal bonds ([`skin`]).
+    /// Stiffen the surface row's normal bonds ([`skin`]; on by default).
     pub skin_correction: bool,
 }
 
@@ -338,7 +338,7 @@ impl Default for CaseOptions {
             second_order: SecondOrder::Corners,
             refine: 0,
             surface_volume: SurfaceVolume::PerArea,
-            skin_correction: false,
+            skin_correction: true,
         }
     }
 }

@@ -19,7 +19,7 @@
 //! A share of 1 over-stiffens every contact by 2-3.5 %: the rows beneath carry part of the
 //! traction in the affine state and their bonds are not scaled. The share 0.8 is a
 //! calibrated constant, not derived; docs/VALIDATION.md gives the meshes it was chosen on and
-//! those it was checked on.
+//! those it was checked on. On by default (`skin_correction = false` on a body turns it off).
 
 use crate::case::correction::micromodulus;
 use crate::case::neighbours::BondList;

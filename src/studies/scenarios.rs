@@ -10,8 +10,8 @@
 //!   spacing fine enough that the contact radius spans 15 particles; a stiff penalty
 //!   (`R = 100 m` in Eq. 23) so that penetration does not add compliance. Only what the
 //!   contact needs is modelled: a quarter (sphere) or a half slice (roller, punch) by
-//!   symmetry planes, and for the sphere and roller a shell sector of depth 3a around the
-//!   contact, loaded on its inner face (the full-body comparison is in docs/VALIDATION.md).
+//!   symmetry planes, and for the sphere and roller a shell sector around the contact (3a
+//!   deep and wide for the sphere, 6a for the roller), loaded on its inner face (the full-body comparison is in docs/VALIDATION.md).
 //! * **paper** — the paper's inputs as stated where they are consistent: R = 1 m, E = 1 GPa,
 //!   ν = 0.25, Δ = 0.08 m, m = 3, the paper's loads (P = 1e8 N sphere, 2e8 N/m roller), the
 //!   paper's bond kinematics (deformed bonds, Eq. 26) and penalty (R = Δ/2), compared with the
@@ -112,9 +112,9 @@ pub struct ValidationCase {
 }
 
 impl ValidationCase {
-    /// The same case with `skin_correction = true` on every deformable body
-    /// ([`crate::case::skin`]), run into `<problem>-<label>-skin/`.
-    pub fn with_skin_correction(mut self) -> Self {
+    /// The same case with `skin_correction = false` on every deformable body (the balanced
+    /// correction alone, [`crate::case::skin`]), run into `<problem>-<label>-noskin/`.
+    pub fn without_skin_correction(mut self) -> Self {
         let mut out = String::with_capacity(self.scene.len() + 64);
         let mut lines = self.scene.lines().peekable();
         while let Some(line) = lines.next() {
@@ -134,7 +134,7 @@ impl ValidationCase {
                 block.push(lines.next().unwrap_or_default());
             }
             if !block.iter().any(|l| l.replace(' ', "") == "kind=\"rigid\"") {
-                out.push_str("skin_correction = true\n");
+                out.push_str("skin_correction = false\n");
             }
             for l in block {
                 out.push_str(l);
@@ -142,7 +142,7 @@ impl ValidationCase {
             }
         }
         self.scene = out;
-        self.label.push_str("-skin");
+        self.label.push_str("-noskin");
         self
     }
 }
@@ -337,7 +337,10 @@ axis = "y"
 }
 
 /// Hertz roller (plane strain) on a rigid plane, a/R = 0.15: a half of a slice of the shell
-/// sector, with symmetry planes on both faces of the slice (plane strain) and at x = 0.
+/// sector, with symmetry planes on both faces of the slice (plane strain) and at x = 0. The
+/// sector is 6a deep and wide: in plane strain the stresses under a contact decay as 1/r, and
+/// a sector 3a deep narrows the contact by about a point (docs/VALIDATION.md, "The skin
+/// correction").
 pub fn hertz_roller_case(a_over_dx: f64) -> ValidationCase {
     let (radius, a) = (1.0, 0.15);
     let e_star = e_star_rigid(YOUNGS, POISSON);
@@ -391,8 +394,8 @@ axis = "y"
 at = {thickness}
 keep = "negative"
 "#,
-        hw = 3.0 * a,
-        depth = 3.0 * a,
+        hw = 6.0 * a,
+        depth = 6.0 * a,
         mid = 0.5 * thickness,
         mat = material(),
         half = load_per_length * thickness / 2.0,
@@ -686,10 +689,10 @@ mod tests {
     use super::*;
     use crate::scene::{BodyKind, Scene};
 
-    /// `validate --skin-correction`: every stored scene still parses and checks, with the key
-    /// on each deformable body and on no rigid one, and runs into its own folder.
+    /// `validate --skin-correction false`: every stored scene still parses and checks, with
+    /// the key on each deformable body and on no rigid one, and runs into its own folder.
     #[test]
-    fn skin_correction_marks_the_deformable_bodies() {
+    fn no_skin_correction_marks_the_deformable_bodies() {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
         let mesh = root.join("meshes").join(SPHERE_MESH_NAME);
         let problems = [Problem::Sphere, Problem::Roller, Problem::Punch];
@@ -698,14 +701,14 @@ mod tests {
         for case in all {
             let plain = Scene::parse(&case.scene, "plain", root).expect("scene");
             let label = case.label.clone();
-            let skin = case.with_skin_correction();
-            assert_eq!(skin.label, format!("{label}-skin"));
+            let skin = case.without_skin_correction();
+            assert_eq!(skin.label, format!("{label}-noskin"));
             let marked = Scene::parse(&skin.scene, "skin", root).expect("scene with the key");
             assert_eq!(plain.bodies.len(), marked.bodies.len());
             let mut deformable = 0;
             for (p, m) in plain.bodies.iter().zip(&marked.bodies) {
                 assert_eq!(p.skin_correction, None);
-                let want = (m.kind == BodyKind::Deformable).then_some(true);
+                let want = (m.kind == BodyKind::Deformable).then_some(false);
                 deformable += usize::from(want.is_some());
                 assert_eq!(m.skin_correction, want, "{}: {}", skin.label, m.name);
             }

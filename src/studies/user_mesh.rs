@@ -336,7 +336,7 @@ fn vector(v: [f64; 3]) -> String {
 }
 
 /// What a user may set on the body of `validate --mesh`'s scene; the defaults are `run`'s.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BodyChoices {
     /// The horizon factor m (METHOD.md §2: δ = mΔ, 3 by default).
     pub horizon_factor: Option<f64>,
@@ -344,13 +344,26 @@ pub struct BodyChoices {
     pub second_order: SecondOrder,
     /// Levels of uniform refinement ([`crate::case::refine`]).
     pub refine: u32,
-    /// The skin correction ([`crate::case::skin`]).
+    /// The skin correction ([`crate::case::skin`]; on, as in `run`, unless the user turns it
+    /// off).
     pub skin_correction: bool,
     /// Where the contact spans fewer than [`MIN_CONTACT_SPACINGS`] spacings, also run the body
     /// with the finer particles that the mesh allows ([`Remedy`]), as a second row: what the
     /// mesh gives as it is, and what one key in the scene gives. The command line sets it
     /// when the user chose none of the horizon, `refine` and `second_order`.
     pub compare: bool,
+}
+
+impl Default for BodyChoices {
+    fn default() -> Self {
+        BodyChoices {
+            horizon_factor: None,
+            second_order: SecondOrder::default(),
+            refine: 0,
+            skin_correction: true,
+            compare: false,
+        }
+    }
 }
 
 /// The finer particles `validate --mesh` runs beside the mesh's own when the contact is
@@ -451,9 +464,9 @@ pub fn mesh_case(
         ),
     };
     let skin_line = if body.skin_correction {
-        "skin_correction = true          # the surface row carries a contact's traction (docs/VALIDATION.md)\n"
-    } else {
         ""
+    } else {
+        "skin_correction = false         # the balanced correction alone: a softer surface row (docs/VALIDATION.md)\n"
     };
     let load_note = match problem {
         Problem::Roller => format!("P = {} N/m over the length", num(load)),
@@ -617,7 +630,7 @@ pub fn validate_mesh(
         let skin = if body.skin_correction {
             ""
         } else {
-            "; --skin-correction (`skin_correction = true` on the body) corrects most of what the surface row's softness adds there at no extra particles"
+            "; without the skin correction (`skin_correction = false`) the surface row's softness adds most of that"
         };
         warnings.push(format!(
             "the contact spans only {contact_spacings:.1} spacings (a/Δ < {MIN_CONTACT_SPACINGS}); expect larger errors, a contact too wide and too low{skin}; or refine the mesh near the contact (docs/VALIDATION.md)"

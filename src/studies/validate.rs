@@ -83,9 +83,9 @@ pub fn run_selection(
     let mut failures = Vec::new();
     for c in cases(problems, sets, &mesh) {
         let c = if skin_correction {
-            c.with_skin_correction()
-        } else {
             c
+        } else {
+            c.without_skin_correction()
         };
         if !quiet {
             eprintln!(
