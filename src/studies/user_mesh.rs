@@ -630,10 +630,10 @@ pub fn validate_mesh(
         let skin = if body.skin_correction {
             ""
         } else {
-            "; without the skin correction (`skin_correction = false`) the surface row's softness adds most of that"
+            "; without the skin correction (`skin_correction = false`) the contact also comes out too wide and too low"
         };
         warnings.push(format!(
-            "the contact spans only {contact_spacings:.1} spacings (a/Δ < {MIN_CONTACT_SPACINGS}); expect larger errors, a contact too wide and too low{skin}; or refine the mesh near the contact (docs/VALIDATION.md)"
+            "the contact spans only {contact_spacings:.1} spacings (a/Δ < {MIN_CONTACT_SPACINGS}); expect larger errors{skin}; refine the mesh near the contact (docs/VALIDATION.md)"
         ));
         let key = finer.as_ref().map(remedy_key);
         if let Some(key) = key {
