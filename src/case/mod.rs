@@ -522,9 +522,10 @@ impl PdCase {
         let source: Vec<usize> = (0..position.len())
             .map(|j| ghosts.source_of(j, particles.len()))
             .collect();
-        let correction = surface_correction_with(
+        let partner_volume = ghosts.partner_volumes(&particles.volume);
+        let mut correction = surface_correction_with(
             &position,
-            &ghosts.partner_volumes(&particles.volume),
+            &partner_volume,
             &source,
             &bonds,
             &Horizon {
@@ -541,12 +542,12 @@ impl PdCase {
         times.segments = t.elapsed().as_secs_f64();
 
         // After the segments: the skin correction balances each surface particle against the
-        // area its contact force acts on.
-        let mut correction = correction;
+        // area its contact force acts on (its time counts as the correction's).
+        let t = Instant::now();
         let skin = options.skin_correction.then(|| {
             let input = SkinInput {
                 position: &position,
-                partner_volume: &ghosts.partner_volumes(&particles.volume),
+                partner_volume: &partner_volume,
                 volume: &particles.volume,
                 is_surface: &surface.is_surface,
                 normal: &surface.normal,
@@ -556,6 +557,7 @@ impl PdCase {
             };
             skin_correction(&input, &bonds, &mut correction.bond_factor)
         });
+        times.correction += t.elapsed().as_secs_f64();
 
         Ok(PdCase {
             mesh,
