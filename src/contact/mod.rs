@@ -366,6 +366,16 @@ impl ContactPass {
         }
     }
 
+    /// Whether slave `k` of this pass (an index into `slaves`) had a candidate segment at the
+    /// last Verlet rebuild: it may touch within a step (the slaves that ADR's density and the
+    /// static solver's stabilisation weigh).
+    pub fn may_touch(&self, k: usize) -> bool {
+        match (self.verlet.offsets.get(k), self.verlet.offsets.get(k + 1)) {
+            (Some(a), Some(b)) => b > a,
+            _ => false,
+        }
+    }
+
     /// The slave side of [`apply`](Self::apply): the contacts' forces on the slaves and the
     /// contact stiffness of every slave that may touch.
     pub fn apply_to_slaves(&self, bodies: &mut [Body]) {

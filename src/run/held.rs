@@ -24,7 +24,7 @@ use crate::case::segments::quad_area_normal;
 use crate::error::Result;
 use crate::math::Vec3;
 use crate::model::Model;
-use crate::scene::{num, Motion, Scene, SolverKind};
+use crate::scene::{num, Motion, Scene};
 
 use super::checks::is_plane;
 
@@ -33,7 +33,7 @@ const BALANCED: f64 = 1e-9;
 
 /// Refuses a loaded body that nothing holds (see the module documentation).
 pub(super) fn check_held(scene: &Scene, model: &Model) -> Result<()> {
-    if scene.solver.kind != SolverKind::Adr {
+    if !scene.solver.kind.is_quasi_static() {
         return Ok(());
     }
     let n = scene.bodies.len();

@@ -256,7 +256,7 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
     let mut monitor = RunMonitor::new(
         Some(frames),
         options.quiet || !root,
-        scene.solver.kind == SolverKind::Adr,
+        scene.solver.kind.is_quasi_static(),
         stop,
     );
     let solve_start = Instant::now();
@@ -272,6 +272,16 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
         }
         // ADR that ends without reaching the tolerance (and was not interrupted) is a failed
         // run: the state is not an equilibrium.
+        Ok(s) if scene.solver.kind == SolverKind::Static && !s.converged && !s.interrupted => {
+            let e = Error::numerical(format!(
+                "the static solver did not converge in {} Newton iterations (residual {:.3e}, tolerance {:.1e}, load factor {:.4} reached); likely cause: too few iterations (raise max_iterations) or loads that the supports and contacts cannot balance",
+                s.iterations,
+                s.residual,
+                scene.solver.tolerance.unwrap_or(crate::solver::DEFAULT_TOLERANCE),
+                s.load_factor
+            ));
+            (s, Some(e))
+        }
         Ok(s) if scene.solver.kind == SolverKind::Adr && !s.converged && !s.interrupted => {
             let e = Error::numerical(format!(
                 "ADR did not converge in {} iterations (residual {:.3e}, tolerance {:.1e}); likely cause: too few iterations (raise max_iterations) or loads that the supports and contacts cannot balance",
@@ -290,9 +300,14 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
         // A numerical failure: the summary still says how far the run got.
         Err(e) => {
             let (step, time, measure) = monitor.last_step;
-            let adr = scene.solver.kind == SolverKind::Adr;
+            let adr = scene.solver.kind.is_quasi_static();
             let stats = RunStats {
-                solver: if adr { "adr" } else { "explicit" }.into(),
+                solver: match scene.solver.kind {
+                    SolverKind::Adr => "adr",
+                    SolverKind::Static => "static",
+                    SolverKind::Explicit => "explicit",
+                }
+                .into(),
                 iterations: step,
                 time,
                 residual: if adr { measure } else { 0.0 },

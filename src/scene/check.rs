@@ -337,7 +337,7 @@ impl Scene {
             }
         }
         match self.solver.kind {
-            SolverKind::Adr => {
+            SolverKind::Adr | SolverKind::Static => {
                 if let Some(t) = self.solver.tolerance {
                     if !(t > 0.0 && t < 1.0) {
                         return Err(err(
@@ -399,8 +399,12 @@ impl Scene {
     pub fn warnings(&self) -> Vec<String> {
         let s = &self.solver;
         let (kind, ignored): (&str, Vec<(&str, bool)>) = match s.kind {
-            SolverKind::Adr => (
-                "adr",
+            SolverKind::Adr | SolverKind::Static => (
+                if s.kind == SolverKind::Adr {
+                    "adr"
+                } else {
+                    "static"
+                },
                 vec![
                     ("dt", s.dt.is_some()),
                     ("safety", s.safety.is_some()),

@@ -63,8 +63,17 @@ pub struct Scene {
 pub enum SolverKind {
     /// Adaptive dynamic relaxation (quasi-static).
     Adr,
+    /// Newton-Raphson with a matrix-free tangent (quasi-static).
+    Static,
     /// Explicit dynamics (velocity Verlet).
     Explicit,
+}
+
+impl SolverKind {
+    /// ADR or the static solver: a run to an equilibrium, in load increments.
+    pub fn is_quasi_static(self) -> bool {
+        matches!(self, SolverKind::Adr | SolverKind::Static)
+    }
 }
 
 /// `[solver]`.

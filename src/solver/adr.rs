@@ -20,7 +20,7 @@ const CONTACT_ROW: f64 = 0.683;
 /// A particle without a bond has no stiffness: ADR's fictitious density (Eq. 30) is zero there
 /// and the first step divides by it. Said before the run, with its cause, instead of the NaN
 /// it would end in.
-fn unbonded_particles(model: &Model, density: &[Vec<f64>]) -> Result<()> {
+pub(super) fn unbonded_particles(model: &Model, density: &[Vec<f64>]) -> Result<()> {
     for (b, d) in model.bodies.iter().zip(density) {
         let Body::Deformable(pd) = b else { continue };
         let lonely: Vec<usize> = (0..pd.len()).filter(|&i| !(d[i] > 0.0)).collect();

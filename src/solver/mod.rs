@@ -1,5 +1,6 @@
-//! Time integration: adaptive dynamic relaxation for quasi-static scenes and explicit velocity
-//! Verlet for dynamics (paper Sec. 2.3, METHOD.md §6).
+//! Time integration: adaptive dynamic relaxation (or the static solver, Newton-Raphson) for
+//! quasi-static scenes and explicit velocity Verlet for dynamics (paper Sec. 2.3, METHOD.md
+//! §6).
 //!
 //! **ADR** (Kilic & Madenci 2010, Eqs. 27-33, Δt = 1): a fictitious diagonal density
 //! `λ_i ≥ ¼ Σ_j |K_ij|` (Eq. 31) from Gershgorin's bound on the bond stiffness `w n⊗n` plus the
@@ -21,16 +22,21 @@
 //! | ADR: the fictitious density, the load increments, the relaxation | `adr.rs` ([`adr`]) |
 //! | velocity Verlet, the stable step, the energy balance | `explicit.rs` ([`explicit`], [`stable_time_step`]) |
 //! | ADR: a loaded body gone past everything it is in contact with | `unheld.rs` ([`Unheld`]) |
+//! | static: Newton-Raphson, conjugate gradients, line search, load cut-backs | `newton.rs` ([`newton`]) |
+//! | static: the matrix-free tangent and its block-Jacobi preconditioner | `tangent.rs` |
 //! | the monitor, the statistics, the free-direction mask, the checks both share | this module |
 
 mod adr;
 mod explicit;
+mod newton;
+mod tangent;
 mod unheld;
 
 use rayon::prelude::*;
 
 pub use adr::adr;
 pub use explicit::{explicit, stable_time_step};
+pub use newton::newton;
 pub use unheld::Unheld;
 
 use crate::body::{Body, FIX_X, FIX_Y, FIX_Z};
@@ -43,6 +49,8 @@ use crate::scene::{SolverKind, SolverSpec};
 pub const DEFAULT_TOLERANCE: f64 = 1e-4;
 /// Default ADR iteration cap.
 pub const DEFAULT_MAX_ITERATIONS: usize = 200_000;
+/// Default cap on the static solver's Newton iterations, over all load increments.
+pub const DEFAULT_NEWTON_ITERATIONS: usize = 500;
 /// Default fraction of the stable time step.
 pub const DEFAULT_SAFETY: f64 = 0.8;
 /// Receives the solver's progress and frames.
@@ -78,7 +86,7 @@ impl Monitor for Silent {
 /// What a run did.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct RunStats {
-    /// "adr" or "explicit".
+    /// "adr", "static" or "explicit".
     pub solver: String,
     pub iterations: usize,
     pub converged: bool,
@@ -100,6 +108,27 @@ pub struct RunStats {
     /// ([`Unheld`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unheld: Option<Unheld>,
+    /// Static: conjugate-gradient iterations over all Newton iterations.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub linear_iterations: usize,
+    /// Static: force evaluations (the residual at each Newton iteration and each line-search
+    /// trial).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub force_evaluations: usize,
+    /// Static: load steps halved because an increment did not converge.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub cutbacks: usize,
+    /// Static: the share of the load at the last equilibrium found (1 when converged).
+    #[serde(skip_serializing_if = "is_zero_f64")]
+    pub load_factor: f64,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
+}
+
+fn is_zero_f64(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// Fixed-component mask as a per-axis factor (0 fixed, 1 free).
@@ -119,6 +148,13 @@ pub fn solve(model: &mut Model, spec: &SolverSpec, monitor: &mut dyn Monitor) ->
             model,
             spec.tolerance.unwrap_or(DEFAULT_TOLERANCE),
             spec.max_iterations.unwrap_or(DEFAULT_MAX_ITERATIONS),
+            spec.load_steps.unwrap_or(1),
+            monitor,
+        ),
+        SolverKind::Static => newton(
+            model,
+            spec.tolerance.unwrap_or(DEFAULT_TOLERANCE),
+            spec.max_iterations.unwrap_or(DEFAULT_NEWTON_ITERATIONS),
             spec.load_steps.unwrap_or(1),
             monitor,
         ),

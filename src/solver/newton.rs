@@ -1,0 +1,494 @@
+//! The static solver: Newton-Raphson on the out-of-balance force of Eq. 28 (METHOD.md §6),
+//! with a matrix-free tangent ([`super::tangent`]) solved by conjugate gradients with a
+//! block-Jacobi preconditioner, a line search, and load increments that cut back by
+//! themselves.
+//!
+//! Each Newton iteration solves `A d = S⁻¹ R` (the tangent and the out-of-balance force of the
+//! free degrees of freedom, rows divided by each particle's share) to a relative residual
+//! `η` that tightens as the out-of-balance force nears the tolerance (inexact Newton: no
+//! more conjugate-gradient iterations than the next Newton step can use), then looks along
+//! `d` for the point where the energy's slope `d·S⁻¹R(u + αd)` has fallen to half its value
+//! at `α = 0` (regula falsi, at most [`LINE_SEARCH`] force evaluations; a trial state with a
+//! missed contact is a step too long). An increment that does not reach the tolerance in
+//! [`NEWTON_PER_INCREMENT`] iterations starts again from the last equilibrium with half the
+//! load step, down to [`MIN_STEP`] of the load. Converged, as ADR, when `‖R‖₂` over the free
+//! degrees of freedom is below `tolerance · ‖F_applied‖₂`.
+
+use super::tangent::{scale_and_mask, Dofs, Tangent};
+use super::{check_missed, free_factor, Monitor, RunStats};
+use crate::body::Body;
+use crate::error::{Error, Result};
+use crate::math::Vec3;
+use crate::model::Model;
+use crate::scene::Motion;
+
+/// Newton iterations an increment may take before it is cut back.
+pub const NEWTON_PER_INCREMENT: usize = 60;
+/// Force evaluations a line search may take.
+pub const LINE_SEARCH: usize = 8;
+/// The smallest load step before the solver gives up, as a share of the whole load.
+pub const MIN_STEP: f64 = 1.0 / 1024.0;
+/// Conjugate-gradient iterations a linear solve may take.
+pub const MAX_LINEAR: usize = 3_000;
+/// The loosest relative residual of a linear solve.
+const ETA_MAX: f64 = 0.1;
+
+/// Refuses what the static solver does not handle, with the reason and what to use instead.
+fn supported(model: &Model) -> Result<()> {
+    if model.domain.is_some() {
+        return Err(Error::input(
+            "the static solver runs in one process (its conjugate-gradient solves are not yet decomposed over MPI ranks): run it without mpirun, or use kind = \"adr\" under mpirun".to_string(),
+        ));
+    }
+    if !model.short_range.is_empty() {
+        return Err(Error::input(
+            "the static solver has the tangent of the point-to-surface contact only: use method = \"point-to-surface\" in every [[contact]], or kind = \"adr\" for the short-range method".to_string(),
+        ));
+    }
+    for b in &model.bodies {
+        if let Body::Rigid(rb) = b {
+            if rb.motion == Motion::Velocity && rb.velocity.norm() > 0.0 {
+                return Err(Error::input(format!(
+                    "rigid body \"{}\" moves at a velocity, which has no meaning in a static run: give it motion = \"free\" with a [[load]], or use kind = \"adr\" (one unit of pseudo-time per iteration) or \"explicit\"",
+                    rb.name
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The displacements and free translations: what a load step saves and restores.
+#[derive(Clone)]
+struct State {
+    u: Vec<Vec<Vec3>>,
+    translation: Vec<Vec3>,
+}
+
+impl State {
+    fn of(model: &Model) -> State {
+        State {
+            u: model
+                .bodies
+                .iter()
+                .map(|b| b.as_pd().map_or(Vec::new(), |pd| pd.u.clone()))
+                .collect(),
+            translation: model
+                .bodies
+                .iter()
+                .map(|b| match b {
+                    Body::Rigid(rb) => rb.translation,
+                    Body::Deformable(_) => Vec3::zeros(),
+                })
+                .collect(),
+        }
+    }
+
+    /// Puts `self + alpha · d` into the model.
+    fn apply(&self, model: &mut Model, d: Option<(f64, &Dofs)>) {
+        for (k, b) in model.bodies.iter_mut().enumerate() {
+            match b {
+                Body::Deformable(pd) => {
+                    pd.u.copy_from_slice(&self.u[k]);
+                    if let Some((a, d)) = d {
+                        for (u, d) in pd.u.iter_mut().zip(&d.pd[k]) {
+                            *u += d * a;
+                        }
+                    }
+                }
+                Body::Rigid(rb) => {
+                    rb.translation = self.translation[k];
+                    if let Some((a, d)) = d {
+                        if rb.motion == Motion::Free {
+                            rb.translation += rb.axis * (a * d.rigid[k]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The out-of-balance force of the free degrees of freedom (the model's forces evaluated),
+/// rows divided by the particles' shares (`S⁻¹ R`), and `‖R‖₂` unscaled.
+fn residual(model: &Model, out: &mut Dofs) -> f64 {
+    let mut sq = 0.0;
+    for (k, b) in model.bodies.iter().enumerate() {
+        match b {
+            Body::Deformable(pd) => {
+                for (i, (o, f)) in out.pd[k].iter_mut().zip(&pd.force).enumerate() {
+                    *o = f.component_mul(&free_factor(pd.fixed[i]));
+                    sq += o.norm_squared();
+                }
+            }
+            Body::Rigid(rb) => {
+                out.rigid[k] = (rb.load + rb.contact_force).dot(&rb.axis);
+                if rb.motion == Motion::Free {
+                    sq += out.rigid[k].powi(2);
+                }
+            }
+        }
+    }
+    scale_and_mask(model, out);
+    sq.sqrt()
+}
+
+/// Preconditioned conjugate gradients for `A x = b` to `‖r‖ ≤ eta ‖b‖`; returns the
+/// iterations taken.
+fn pcg(
+    tangent: &mut Tangent,
+    model: &mut Model,
+    b: &Dofs,
+    eta: f64,
+    x: &mut Dofs,
+    work: &mut [Dofs; 3],
+) -> usize {
+    let [r, z, p] = work;
+    let mut ap = Dofs::zeros(model);
+    x.fill_zero();
+    r.clone_from(b);
+    let norm0 = r.dot(r).sqrt();
+    if !(norm0 > 0.0) {
+        return 0;
+    }
+    tangent.precondition(r, z);
+    p.clone_from(z);
+    let mut rz = r.dot(z);
+    for k in 1..=MAX_LINEAR {
+        tangent.apply(model, p, &mut ap);
+        let pap = p.dot(&ap);
+        if !(pap > 0.0) {
+            // Not positive along p (a compressed bond's negative stiffness, say): keep what
+            // has been found, or take the preconditioned residual as the direction.
+            if k == 1 {
+                x.clone_from(z);
+            }
+            return k;
+        }
+        let alpha = rz / pap;
+        x.axpy(alpha, p);
+        r.axpy(-alpha, &ap);
+        if r.dot(r).sqrt() <= eta * norm0 {
+            return k;
+        }
+        tangent.precondition(r, z);
+        let rz_new = r.dot(z);
+        p.xpby(z, rz_new / rz);
+        rz = rz_new;
+    }
+    MAX_LINEAR
+}
+
+/// Norm of the applied loads at the current load factor (the reference force, as ADR's).
+fn applied_norm(model: &Model) -> f64 {
+    let mut s = 0.0;
+    for b in &model.bodies {
+        match b {
+            Body::Deformable(pd) => {
+                for (f, &m) in pd.load.iter().zip(&pd.fixed) {
+                    s += f.component_mul(&free_factor(m)).norm_squared();
+                }
+            }
+            Body::Rigid(rb) if rb.motion == Motion::Free => s += rb.load.dot(&rb.axis).powi(2),
+            Body::Rigid(_) => {}
+        }
+    }
+    s.sqrt()
+}
+
+/// Sets every body's loads to `scale` times the full ones.
+fn scale_loads(model: &mut Model, full: &[(Vec<Vec3>, Vec3)], scale: f64) {
+    for (b, (loads, rigid)) in model.bodies.iter_mut().zip(full) {
+        match b {
+            Body::Deformable(pd) => {
+                for (l, f) in pd.load.iter_mut().zip(loads) {
+                    *l = f * scale;
+                }
+            }
+            Body::Rigid(rb) => rb.load = rigid * scale,
+        }
+    }
+}
+
+/// Whether the forces just evaluated are usable: finite, and no slave through its master.
+fn sound(model: &Model) -> bool {
+    model.missed_contacts() == 0
+        && model.bodies.iter().all(|b| match b {
+            Body::Deformable(pd) => pd
+                .force
+                .iter()
+                .chain(&pd.u)
+                .all(|v| v.iter().all(|c| c.is_finite())),
+            Body::Rigid(rb) => rb.translation.iter().all(|c| c.is_finite()),
+        })
+}
+
+/// Per contact pass, its slaves in contact at the last evaluation, sorted.
+fn in_contact(model: &Model) -> Vec<Vec<u32>> {
+    model
+        .passes
+        .iter()
+        .map(|p| {
+            let mut s: Vec<u32> = p.contacts.iter().map(|c| c.slave).collect();
+            s.sort_unstable();
+            s
+        })
+        .collect()
+}
+
+/// What the solver counts.
+#[derive(Default)]
+struct Counts {
+    newton: usize,
+    linear: usize,
+}
+
+/// How an increment ended.
+enum Increment {
+    Converged,
+    /// No equilibrium within the iterations, or a line search that found no usable state.
+    Failed(String),
+    Interrupted,
+}
+
+/// Newton-Raphson to a static equilibrium, the load applied in `load_steps` equal increments
+/// (cut back by halves where one does not converge); `max_iterations` caps the Newton
+/// iterations of the whole run.
+pub fn newton(
+    model: &mut Model,
+    tolerance: f64,
+    max_iterations: usize,
+    load_steps: usize,
+    monitor: &mut dyn Monitor,
+) -> Result<RunStats> {
+    supported(model)?;
+    if !(applied_norm(model) > 0.0) {
+        return Err(Error::input(
+            "nothing loads the model: a static run needs a [[load]] with a non-zero force on a body part that is free to move".to_string(),
+        ));
+    }
+    let stiffness: Vec<Vec<f64>> = model
+        .bodies
+        .iter()
+        .map(|b| b.as_pd().map_or(Vec::new(), |pd| pd.stiffness.clone()))
+        .collect();
+    super::adr::unbonded_particles(model, &stiffness)?;
+    let mut stats = RunStats {
+        solver: "static".into(),
+        ..Default::default()
+    };
+    let full: Vec<(Vec<Vec3>, Vec3)> = model
+        .bodies
+        .iter()
+        .map(|b| match b {
+            Body::Deformable(pd) => (pd.load.clone(), Vec3::zeros()),
+            Body::Rigid(rb) => (Vec::new(), rb.load),
+        })
+        .collect();
+    let nominal = 1.0 / load_steps.max(1) as f64;
+    let mut step = nominal;
+    let mut done = 0.0;
+    let mut saved = State::of(model);
+    let mut counts = Counts::default();
+    let mut bond_blocks = vec![None; model.bodies.len()];
+    while done < 1.0 {
+        let target = if done + step > 1.0 - 1e-12 {
+            1.0
+        } else {
+            done + step
+        };
+        scale_loads(model, &full, target);
+        model.gather();
+        monitor.load_increment(model, target, counts.newton)?;
+        let outcome = increment(
+            model,
+            tolerance,
+            max_iterations,
+            monitor,
+            &mut counts,
+            &mut bond_blocks,
+            &mut stats,
+        )?;
+        match outcome {
+            Increment::Converged => {
+                done = target;
+                saved = State::of(model);
+                stats.load_factor = done;
+                step = (step * 2.0).min(nominal);
+            }
+            Increment::Interrupted => {
+                stats.interrupted = true;
+                break;
+            }
+            Increment::Failed(why) => {
+                if counts.newton >= max_iterations {
+                    stats.converged = false;
+                    break;
+                }
+                step *= 0.5;
+                stats.cutbacks += 1;
+                if step < MIN_STEP {
+                    return Err(Error::numerical(format!(
+                        "the static solver found no equilibrium beyond load factor {done:.4} (the last try: {why}); likely cause: a load that the supports and contacts cannot balance, or contact that opens and closes between iterations; try kind = \"adr\", or more load_steps"
+                    )));
+                }
+                saved.apply(model, None);
+                model.compute_forces();
+            }
+        }
+    }
+    stats.converged = done >= 1.0 && !stats.interrupted;
+    stats.iterations = counts.newton;
+    stats.linear_iterations = counts.linear;
+    stats.force_evaluations = model.evaluations;
+    model.gather();
+    monitor.finish(model, counts.newton, counts.newton as f64)?;
+    Ok(stats)
+}
+
+/// Newton iterations at the current loads from the current state.
+#[allow(clippy::too_many_arguments)]
+fn increment(
+    model: &mut Model,
+    tolerance: f64,
+    max_iterations: usize,
+    monitor: &mut dyn Monitor,
+    counts: &mut Counts,
+    bond_blocks: &mut [Option<Vec<nalgebra::Matrix3<f64>>>],
+    stats: &mut RunStats,
+) -> Result<Increment> {
+    let reference = applied_norm(model);
+    model.compute_forces();
+    if !sound(model) {
+        return Ok(Increment::Failed(
+            "the state it starts from has a missed contact".into(),
+        ));
+    }
+    let mut rhs = Dofs::zeros(model);
+    let mut d = Dofs::zeros(model);
+    let mut work = [Dofs::zeros(model), Dofs::zeros(model), Dofs::zeros(model)];
+    let mut stabilise = 1.0;
+    let mut previous: Option<f64> = None;
+    let mut settled: Vec<Vec<u32>> = vec![Vec::new(); model.passes.len()];
+    for it in 0..NEWTON_PER_INCREMENT {
+        let r = residual(model, &mut rhs);
+        let rel = r / reference;
+        stats.residual = rel;
+        monitor.step(model, counts.newton, counts.newton as f64, rel)?;
+        if rel < tolerance {
+            check_missed(model, counts.newton, "iteration", None)?;
+            return Ok(Increment::Converged);
+        }
+        if monitor.interrupted() {
+            return Ok(Increment::Interrupted);
+        }
+        if counts.newton >= max_iterations {
+            return Ok(Increment::Failed(format!(
+                "max_iterations = {max_iterations} Newton iterations reached"
+            )));
+        }
+        counts.newton += 1;
+        let mut tangent = Tangent::new(model, stabilise, &settled, bond_blocks);
+        settled = in_contact(model);
+        stabilise *= 0.5;
+        // Inexact Newton (Eisenstat and Walker's second choice): loose while the residual
+        // falls slowly, tight as it falls fast, never much tighter than the tolerance needs.
+        let eta = match previous {
+            Some(p) => (0.9 * (rel / p).powi(2)).min(ETA_MAX),
+            None => ETA_MAX,
+        }
+        .max(0.3 * tolerance / rel)
+        .clamp(1e-8, ETA_MAX);
+        previous = Some(rel);
+        counts.linear += pcg(&mut tangent, model, &rhs, eta, &mut d, &mut work);
+        let g0 = d.dot(&rhs);
+        if !(g0 > 0.0) {
+            return Ok(Increment::Failed(format!(
+                "Newton iteration {it}: the linear solve gave no descent direction"
+            )));
+        }
+        if !line_search(model, &d, g0, &mut rhs) {
+            return Ok(Increment::Failed(format!(
+                "Newton iteration {it}: no step along the Newton direction keeps every slave outside its master"
+            )));
+        }
+    }
+    Ok(Increment::Failed(format!(
+        "{NEWTON_PER_INCREMENT} Newton iterations without reaching the tolerance (residual {:.3e})",
+        stats.residual
+    )))
+}
+
+/// Moves the model along `d` to where the energy's slope `d·S⁻¹R` has fallen to half of `g0`
+/// (its value at the start), by regula falsi; ends with the forces evaluated at the state
+/// taken. False if no trial state was sound.
+fn line_search(model: &mut Model, d: &Dofs, g0: f64, scratch: &mut Dofs) -> bool {
+    let start = State::of(model);
+    let (mut lo, mut g_lo) = (0.0f64, g0);
+    let mut hi: Option<(f64, f64)> = None;
+    let mut alpha = 1.0;
+    let mut last_sound: Option<f64> = None;
+    let mut at = f64::NAN;
+    // Which end the last trial replaced: Illinois halves the other end's slope when one end
+    // is replaced twice in a row, so that regula falsi does not stall against a convex slope.
+    let mut last_side = 0i8;
+    for _ in 0..LINE_SEARCH {
+        start.apply(model, Some((alpha, d)));
+        model.compute_forces();
+        at = alpha;
+        if !sound(model) {
+            // Too far: a slave went through. An upper bound with an unknown slope.
+            hi = Some((alpha, f64::NEG_INFINITY));
+            alpha = 0.5 * (lo + alpha);
+            last_side = 0;
+            continue;
+        }
+        residual(model, scratch);
+        let g = d.dot(scratch);
+        last_sound = Some(alpha);
+        if g.abs() <= 0.5 * g0 {
+            return true;
+        }
+        if g > 0.0 {
+            if last_side == 1 {
+                if let Some((_, g_hi)) = hi.as_mut() {
+                    *g_hi *= 0.5;
+                }
+            }
+            (lo, g_lo) = (alpha, g);
+            last_side = 1;
+        } else {
+            if last_side == -1 {
+                g_lo *= 0.5;
+            }
+            hi = Some((alpha, g));
+            last_side = -1;
+        }
+        alpha = match hi {
+            Some((a_hi, g_hi)) if g_hi.is_finite() => {
+                let a = lo + g_lo * (a_hi - lo) / (g_lo - g_hi);
+                // Keep off the ends: a root pressed against one end is found by halving.
+                let (lo_end, hi_end) = (lo + 0.05 * (a_hi - lo), a_hi - 0.05 * (a_hi - lo));
+                a.clamp(lo_end, hi_end)
+            }
+            Some((a_hi, _)) => 0.5 * (lo + a_hi),
+            None => 2.0 * lo,
+        };
+    }
+    // The last trial was not good enough: take the last sound state, which lowered the
+    // slope or at least kept every contact.
+    match last_sound {
+        Some(a) => {
+            if a != at {
+                start.apply(model, Some((a, d)));
+                model.compute_forces();
+            }
+            sound(model)
+        }
+        None => {
+            start.apply(model, None);
+            model.compute_forces();
+            false
+        }
+    }
+}

@@ -1,0 +1,550 @@
+//! The tangent stiffness of the static solver ([`super::newton`]), matrix-free: its product
+//! with a vector and its block-diagonal preconditioner (METHOD.md §6).
+//!
+//! The unknowns are the displacements of every deformable body's particles and the
+//! translation of every free rigid body along its axis ([`Dofs`]). The operator is
+//! `A = S⁻¹ K`, `K = −∂F/∂u` the tangent of the out-of-balance force of Eq. 28 and `S` the
+//! share of each particle's volume that the model holds (½ per symmetry plane it lies on):
+//! the bond pass gives particle `i` the force `s_i Σ_j p_ij φ_ij` with symmetric pair weights
+//! `p_ij` ([`crate::case::pairs`]), so `S⁻¹ K` is symmetric where `K` is not, and conjugate
+//! gradients apply.
+//!
+//! * **Bonds.** Linearised kinematics: Eq. 26 is linear in the displacements, so the product
+//!   is one bond-force pass at the positions `X + v` (the force pass itself, sign reversed).
+//!   Finite kinematics: the bond's tangent `w [(1 − L/l) I + (L/l) e⊗e]` (`e = y/l`) at the
+//!   current positions, over the directed bonds. A bond to a mirror image moves with its
+//!   source reflected (`R v_src`).
+//! * **Contact.** Each contact's Hertz penalty `F = K δ^{3/2}` (Eq. 23) on the projected
+//!   normal `n` of its master segment: the gap's variation `dg = (v_s − Σ_a N_a v_a)·n`
+//!   (Eqs. 19-21 with the segment's weights `N_a`; a rigid master: its translation) and the
+//!   stiffness `dF/dδ = 1.5 K δ^{1/2}`: `k dg n` on the slave, `−N_a k dg n` on the master's
+//!   nodes. The variation of `n` and of `(r, t)` is left out (a frictionless contact on a
+//!   smooth surface hardly turns them), so this is the tangent on the projected normal.
+//! * **Stabilisation.** A body held only by contact has no stiffness along its load before
+//!   it touches, and the first Newton step would carry it away. Every slave that may touch
+//!   (a Verlet candidate, [`ContactPass::may_touch`]) gets, in the tangent only, the
+//!   light-contact stiffness that ADR gives it ([`ContactLaw::relaxation_stiffness`] at 0)
+//!   along its own normal, times a factor that the Newton loop halves each
+//!   iteration. The residual is untouched, so the equilibrium is the same; only the path to
+//!   it changes.
+
+use nalgebra::Matrix3;
+use rayon::prelude::*;
+
+use super::free_factor;
+use crate::body::{Body, PdBody};
+use crate::case::pairs::{pair_forces, PairKinematics};
+use crate::contact::ContactPass;
+use crate::math::Vec3;
+use crate::model::Model;
+use crate::reduction::block_sums;
+use crate::scene::{Kinematics, Motion};
+
+/// The unknowns of a static run: per deformable body its particles' displacements (empty
+/// for a rigid body), per free rigid body its translation along its axis (0 otherwise).
+#[derive(Clone, Debug)]
+pub(super) struct Dofs {
+    pub pd: Vec<Vec<Vec3>>,
+    pub rigid: Vec<f64>,
+}
+
+impl Dofs {
+    /// Zeros shaped like the model.
+    pub fn zeros(model: &Model) -> Dofs {
+        Dofs {
+            pd: model
+                .bodies
+                .iter()
+                .map(|b| {
+                    b.as_pd()
+                        .map_or(Vec::new(), |pd| vec![Vec3::zeros(); pd.len()])
+                })
+                .collect(),
+            rigid: vec![0.0; model.bodies.len()],
+        }
+    }
+
+    /// `Σ self·other`, in a fixed order (the same bits on any thread count).
+    pub fn dot(&self, other: &Dofs) -> f64 {
+        let mut s = 0.0;
+        for (a, b) in self.pd.iter().zip(&other.pd) {
+            s += block_sums(0..a.len(), || 0.0, |i| a[i].dot(&b[i]), |x, y| x + y)
+                .into_iter()
+                .fold(0.0, |x, y| x + y);
+        }
+        s + self
+            .rigid
+            .iter()
+            .zip(&other.rigid)
+            .map(|(a, b)| a * b)
+            .fold(0.0, |x, y| x + y)
+    }
+
+    /// `self += alpha · other`.
+    pub fn axpy(&mut self, alpha: f64, other: &Dofs) {
+        for (a, b) in self.pd.iter_mut().zip(&other.pd) {
+            a.par_iter_mut()
+                .zip(b.par_iter())
+                .with_min_len(1024)
+                .for_each(|(a, b)| *a += b * alpha);
+        }
+        for (a, b) in self.rigid.iter_mut().zip(&other.rigid) {
+            *a += alpha * b;
+        }
+    }
+
+    /// `self = other + beta · self`.
+    pub fn xpby(&mut self, other: &Dofs, beta: f64) {
+        for (a, b) in self.pd.iter_mut().zip(&other.pd) {
+            a.par_iter_mut()
+                .zip(b.par_iter())
+                .with_min_len(1024)
+                .for_each(|(a, b)| *a = b + *a * beta);
+        }
+        for (a, b) in self.rigid.iter_mut().zip(&other.rigid) {
+            *a = b + beta * *a;
+        }
+    }
+
+    /// Every entry zero.
+    pub fn fill_zero(&mut self) {
+        for a in &mut self.pd {
+            a.iter_mut().for_each(|x| *x = Vec3::zeros());
+        }
+        self.rigid.iter_mut().for_each(|x| *x = 0.0);
+    }
+}
+
+/// Where a contact's reaction goes.
+#[derive(Clone, Copy, Debug)]
+enum Master {
+    /// A deformable body's segment: its corner nodes with the weights `N_a`.
+    Nodes {
+        body: usize,
+        nodes: [u32; 4],
+        weights: [f64; 4],
+    },
+    /// A free rigid body, translating along `axis`.
+    Free { body: usize, axis: Vec3 },
+    /// Nothing that moves (a fixed rigid body, or the stabilisation's ground).
+    Ground,
+}
+
+/// One penalty spring of the tangent: `k n⊗n` between a slave particle and its master.
+#[derive(Clone, Copy, Debug)]
+struct Spring {
+    body: usize,
+    slave: u32,
+    normal: Vec3,
+    /// N/m, the pass's weight and the slave's share included (the force's own factors).
+    k: f64,
+    master: Master,
+}
+
+/// The tangent at one state, and its preconditioner.
+pub(super) struct Tangent {
+    springs: Vec<Spring>,
+    /// Per deformable body: the current positions of particles and images (finite
+    /// kinematics; empty for linearised ones).
+    current: Vec<Vec<Vec3>>,
+    /// Per deformable body and particle: the inverse of the diagonal block of `A`, fixed
+    /// components removed.
+    block_inverse: Vec<Vec<Matrix3<f64>>>,
+    /// Per free rigid body: the inverse of its diagonal entry (0 otherwise).
+    rigid_inverse: Vec<f64>,
+    /// Scratch positions for the linearised product.
+    scratch: Vec<Vec<Vec3>>,
+}
+
+/// The tangent of a bond `w n⊗n`-like block: `ξξᵀ/|ξ|²` (linearised) or
+/// `(1 − L/l) I + (L/l) e eᵀ` (finite, at the current bond `y`).
+#[inline]
+fn bond_block(xi: Vec3, y: Option<(Vec3, f64)>) -> Matrix3<f64> {
+    match y {
+        None => xi * xi.transpose() / xi.norm_squared(),
+        Some((y, length)) => {
+            let l = y.norm();
+            let e = y / l;
+            Matrix3::identity() * (1.0 - length / l) + e * e.transpose() * (length / l)
+        }
+    }
+}
+
+/// The linear part of a reflection across the planes of `mask`.
+#[inline]
+fn reflect_vector(pd: &PdBody, v: Vec3, mask: u8) -> Vec3 {
+    let mut v = v;
+    for (k, plane) in pd.case.ghosts.planes.iter().enumerate() {
+        if mask & (1 << k) != 0 {
+            v[plane.axis] = -v[plane.axis];
+        }
+    }
+    v
+}
+
+impl Tangent {
+    /// The tangent at the model's current state (forces evaluated there), with the
+    /// stabilisation's factor `stabilise` (0: none); `settled` lists, per contact pass, the
+    /// slaves (sorted) that were in contact at the Newton iteration before, which get their
+    /// contact's own tangent (the others at least the light-contact stiffness). `bond_blocks` caches the bonds' diagonal
+    /// blocks of linearised bodies, which do not change.
+    pub fn new(
+        model: &Model,
+        stabilise: f64,
+        settled: &[Vec<u32>],
+        bond_blocks: &mut [Option<Vec<Matrix3<f64>>>],
+    ) -> Tangent {
+        let nb = model.bodies.len();
+        let mut springs = Vec::new();
+        for (pass, settled) in model.passes.iter().zip(settled) {
+            springs.extend(pass_springs(model, pass, stabilise, settled));
+        }
+        let current: Vec<Vec<Vec3>> = model
+            .bodies
+            .iter()
+            .map(|b| match b {
+                Body::Deformable(pd) if pd.kinematics == Kinematics::Finite => {
+                    let mut x = Vec::new();
+                    pd.extended_positions(&mut x);
+                    x
+                }
+                _ => Vec::new(),
+            })
+            .collect();
+        // The diagonal blocks of K: bonds, then the springs' own blocks.
+        let mut blocks: Vec<Vec<Matrix3<f64>>> = Vec::with_capacity(nb);
+        for (k, b) in model.bodies.iter().enumerate() {
+            let Body::Deformable(pd) = b else {
+                blocks.push(Vec::new());
+                continue;
+            };
+            let blk = match (&bond_blocks[k], pd.kinematics) {
+                (Some(cached), Kinematics::Small) => cached.clone(),
+                _ => {
+                    let x = (!current[k].is_empty()).then_some(&current[k][..]);
+                    let made = bond_diagonal(pd, x);
+                    if pd.kinematics == Kinematics::Small {
+                        bond_blocks[k] = Some(made.clone());
+                    }
+                    made
+                }
+            };
+            blocks.push(blk);
+        }
+        let mut rigid_diag = vec![0.0; nb];
+        for s in &springs {
+            let nn = s.normal * s.normal.transpose();
+            blocks[s.body][s.slave as usize] += nn * s.k;
+            match s.master {
+                Master::Nodes {
+                    body,
+                    nodes,
+                    weights,
+                } => {
+                    for (n, w) in nodes.iter().zip(weights) {
+                        if w != 0.0 {
+                            blocks[body][*n as usize] += nn * (s.k * w * w);
+                        }
+                    }
+                }
+                Master::Free { body, axis } => {
+                    rigid_diag[body] += s.k * s.normal.dot(&axis).powi(2)
+                }
+                Master::Ground => {}
+            }
+        }
+        let block_inverse = model
+            .bodies
+            .iter()
+            .zip(blocks)
+            .map(|(b, blk)| match b {
+                Body::Deformable(pd) => blk
+                    .into_par_iter()
+                    .enumerate()
+                    .map(|(i, m)| invert_block(m / pd.case.ghosts.share(i), pd.fixed[i]))
+                    .collect(),
+                Body::Rigid(_) => Vec::new(),
+            })
+            .collect();
+        let rigid_inverse = model
+            .bodies
+            .iter()
+            .zip(&rigid_diag)
+            .map(|(b, &d)| match b {
+                Body::Rigid(rb) if rb.motion == Motion::Free && d > 0.0 => 1.0 / d,
+                _ => 0.0,
+            })
+            .collect();
+        Tangent {
+            springs,
+            current,
+            block_inverse,
+            rigid_inverse,
+            scratch: vec![Vec::new(); nb],
+        }
+    }
+
+    /// `out = A v` (fixed components zero).
+    pub fn apply(&mut self, model: &mut Model, v: &Dofs, out: &mut Dofs) {
+        for (k, body) in model.bodies.iter_mut().enumerate() {
+            let Body::Deformable(pd) = body else {
+                out.rigid[k] = 0.0;
+                continue;
+            };
+            let (vk, ok) = (&v.pd[k], &mut out.pd[k]);
+            if pd.kinematics == Kinematics::Small {
+                // Eq. 26 linearised is linear in the displacements: the force pass at X + v
+                // is −K v.
+                let pos = &mut self.scratch[k];
+                let n = pd.len();
+                pos.resize(pd.reference.len(), Vec3::zeros());
+                let ghosts = &pd.case.ghosts;
+                let (real, images) = pos.split_at_mut(n);
+                real.par_iter_mut()
+                    .zip(pd.reference[..n].par_iter().zip(vk.par_iter()))
+                    .with_min_len(1024)
+                    .for_each(|(p, (x, d))| *p = x + d);
+                for (g, img) in images.iter_mut().enumerate() {
+                    *img = ghosts.reflect(real[ghosts.source[g] as usize], ghosts.mask[g]);
+                }
+                pair_forces(
+                    &pd.pairs,
+                    pos,
+                    PairKinematics::Small(&pd.reference),
+                    &mut pd.force_buffers,
+                    ok,
+                    |_, f, o| *o = -f,
+                );
+            } else {
+                finite_product(pd, &self.current[k], vk, ok);
+            }
+            out.rigid[k] = 0.0;
+        }
+        for s in &self.springs {
+            let vs = v.pd[s.body][s.slave as usize];
+            let vm = match s.master {
+                Master::Nodes {
+                    body,
+                    nodes,
+                    weights,
+                } => nodes
+                    .iter()
+                    .zip(weights)
+                    .map(|(n, w)| v.pd[body][*n as usize] * w)
+                    .sum(),
+                Master::Free { body, axis } => axis * v.rigid[body],
+                Master::Ground => Vec3::zeros(),
+            };
+            let t = s.k * (vs - vm).dot(&s.normal);
+            out.pd[s.body][s.slave as usize] += s.normal * t;
+            match s.master {
+                Master::Nodes {
+                    body,
+                    nodes,
+                    weights,
+                } => {
+                    for (n, w) in nodes.iter().zip(weights) {
+                        out.pd[body][*n as usize] -= s.normal * (t * w);
+                    }
+                }
+                Master::Free { body, axis } => out.rigid[body] -= t * s.normal.dot(&axis),
+                Master::Ground => {}
+            }
+        }
+        scale_and_mask(model, out);
+    }
+
+    /// `z = M⁻¹ r`, the block-Jacobi preconditioner.
+    pub fn precondition(&self, r: &Dofs, z: &mut Dofs) {
+        for ((z, r), inv) in z.pd.iter_mut().zip(&r.pd).zip(&self.block_inverse) {
+            z.par_iter_mut()
+                .zip(r.par_iter().zip(inv.par_iter()))
+                .with_min_len(1024)
+                .for_each(|(z, (r, m))| *z = m * r);
+        }
+        for ((z, r), inv) in z.rigid.iter_mut().zip(&r.rigid).zip(&self.rigid_inverse) {
+            *z = r * inv;
+        }
+    }
+}
+
+/// `S⁻¹` on every particle's row and the fixed components zeroed; a rigid body that is not
+/// free has no unknown.
+pub(super) fn scale_and_mask(model: &Model, out: &mut Dofs) {
+    for (k, b) in model.bodies.iter().enumerate() {
+        match b {
+            Body::Deformable(pd) => {
+                let ghosts = &pd.case.ghosts;
+                out.pd[k]
+                    .par_iter_mut()
+                    .enumerate()
+                    .with_min_len(1024)
+                    .for_each(|(i, o)| {
+                        *o = o.component_mul(&free_factor(pd.fixed[i])) / ghosts.share(i);
+                    });
+            }
+            Body::Rigid(rb) => {
+                if rb.motion != Motion::Free {
+                    out.rigid[k] = 0.0;
+                }
+            }
+        }
+    }
+}
+
+/// The springs of one contact pass: its contacts, and the stabilisation of the slaves that
+/// may touch and do not.
+fn pass_springs(model: &Model, pass: &ContactPass, stabilise: f64, settled: &[u32]) -> Vec<Spring> {
+    let Some(sb) = model.bodies[pass.slave].as_pd() else {
+        return Vec::new();
+    };
+    let master_of = |nodes: [u32; 4], weights: [f64; 4]| match &model.bodies[pass.master] {
+        Body::Deformable(_) => Master::Nodes {
+            body: pass.master,
+            nodes,
+            weights,
+        },
+        Body::Rigid(rb) if rb.motion == Motion::Free => Master::Free {
+            body: pass.master,
+            axis: rb.axis,
+        },
+        Body::Rigid(_) => Master::Ground,
+    };
+    let segments = match &model.bodies[pass.master] {
+        Body::Deformable(mb) => mb.segments(),
+        Body::Rigid(rb) => &rb.faces[..],
+    };
+    let mut out = Vec::with_capacity(pass.contacts.len());
+    let mut touching = vec![false; sb.len()];
+    for c in &pass.contacts {
+        let s = c.slave as usize;
+        touching[s] = true;
+        // A contact just made has next to no tangent (`1.5 K δ^{1/2}`), and a Newton step
+        // that trusts it pushes its slave through: it gets at least ADR's light-contact
+        // stiffness, the tangent at a hundredth of the window. A contact that held since the
+        // iteration before has its own tangent, for Newton's convergence.
+        let tangent = if settled.binary_search(&c.slave).is_ok() {
+            pass.law.tangent(c.penetration)
+        } else {
+            pass.law.relaxation_stiffness(c.penetration)
+        };
+        let k = pass.weight * sb.case.ghosts.share(s) * tangent.min(pass.law.max_tangent());
+        out.push(Spring {
+            body: pass.slave,
+            slave: c.slave,
+            normal: c.projection.normal,
+            k,
+            master: master_of(segments[c.segment as usize].nodes, c.projection.weights),
+        });
+    }
+    if stabilise > 0.0 {
+        let k0 = stabilise * pass.weight * pass.law.relaxation_stiffness(0.0);
+        for (k, &s) in pass.slaves.iter().enumerate() {
+            if touching[s as usize] || !pass.may_touch(k) {
+                continue;
+            }
+            let master = match &model.bodies[pass.master] {
+                Body::Rigid(rb) if rb.motion == Motion::Free => Master::Free {
+                    body: pass.master,
+                    axis: rb.axis,
+                },
+                _ => Master::Ground,
+            };
+            out.push(Spring {
+                body: pass.slave,
+                slave: s,
+                // The master's normal opposes the slave's where they touch.
+                normal: -sb.case.surface.normal[s as usize],
+                k: k0 * sb.case.ghosts.share(s as usize),
+                master,
+            });
+        }
+    }
+    out
+}
+
+/// The bonds' diagonal blocks of `K` for each particle: `Σ_b w_b B_b` (with a bond to the
+/// particle's own mirror image, `w_b B_b (I − R)`).
+fn bond_diagonal(pd: &PdBody, current: Option<&[Vec3]>) -> Vec<Matrix3<f64>> {
+    let bonds = &pd.case.bonds;
+    let n = pd.len();
+    let ghosts = &pd.case.ghosts;
+    (0..n)
+        .into_par_iter()
+        .with_min_len(256)
+        .map(|i| {
+            let mut m = Matrix3::zeros();
+            for b in bonds.range(i) {
+                let j = bonds.partner[b] as usize;
+                let xi = pd.reference[j] - pd.reference[i];
+                let y = current.map(|x| (x[j] - x[i], f64::from(bonds.length[b])));
+                let blk = bond_block(xi, y) * f64::from(pd.bond_weight[b]);
+                m += blk;
+                if j >= n && ghosts.source[j - n] as usize == i {
+                    // The image moves with the particle itself: −w B R.
+                    let mask = ghosts.mask[j - n];
+                    let mut r = Matrix3::identity();
+                    for (k, plane) in ghosts.planes.iter().enumerate() {
+                        if mask & (1 << k) != 0 {
+                            r[(plane.axis, plane.axis)] = -1.0;
+                        }
+                    }
+                    m -= blk * r;
+                }
+            }
+            m
+        })
+        .collect()
+}
+
+/// The inverse of a diagonal block with its fixed components removed (identity there); the
+/// inverse of its diagonal if the block is singular (a particle whose bonds are collinear).
+fn invert_block(mut m: Matrix3<f64>, fixed: u8) -> Matrix3<f64> {
+    let free = free_factor(fixed);
+    for a in 0..3 {
+        if free[a] == 0.0 {
+            for b in 0..3 {
+                m[(a, b)] = 0.0;
+                m[(b, a)] = 0.0;
+            }
+            m[(a, a)] = 1.0;
+        }
+    }
+    // Symmetrise: the finite-kinematics block is symmetric up to rounding.
+    let m = (m + m.transpose()) * 0.5;
+    match m.try_inverse() {
+        Some(inv) if inv.iter().all(|x| x.is_finite()) => inv,
+        _ => Matrix3::from_diagonal(&m.diagonal().map(|d| if d > 0.0 { 1.0 / d } else { 0.0 })),
+    }
+}
+
+/// `out = K v` of the bonds with finite kinematics, at the current positions `x` (particles
+/// and images): `Σ_j w [(1 − L/l) η + (L/l) e (e·η)]` reversed, `η = v_j − v_i`.
+fn finite_product(pd: &PdBody, x: &[Vec3], v: &[Vec3], out: &mut [Vec3]) {
+    let bonds = &pd.case.bonds;
+    let n = pd.len();
+    let ghosts = &pd.case.ghosts;
+    out.par_iter_mut()
+        .enumerate()
+        .with_min_len(256)
+        .for_each(|(i, o)| {
+            let mut acc = Vec3::zeros();
+            for b in bonds.range(i) {
+                let j = bonds.partner[b] as usize;
+                let vj = if j < n {
+                    v[j]
+                } else {
+                    let g = j - n;
+                    reflect_vector(pd, v[ghosts.source[g] as usize], ghosts.mask[g])
+                };
+                let eta = vj - v[i];
+                let y = x[j] - x[i];
+                let l = y.norm();
+                let e = y / l;
+                let length = f64::from(bonds.length[b]);
+                acc += (eta * (1.0 - length / l) + e * (e.dot(&eta) * length / l))
+                    * f64::from(pd.bond_weight[b]);
+            }
+            *o = -acc;
+        });
+}

@@ -1,0 +1,223 @@
+//! The static solver (`[solver] kind = "static"`, Newton-Raphson with a matrix-free tangent)
+//! against ADR on the same scenes, and against Hertz.
+
+use std::path::{Path, PathBuf};
+
+use pdcontact::run::{run_scene, RunOptions};
+use pdcontact::scene::Scene;
+use pdcontact::Error;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pdcontact-static-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+fn quiet(dir: &Path) -> RunOptions {
+    RunOptions {
+        output: Some(dir.to_path_buf()),
+        quiet: true,
+        stop: None,
+        comm: None,
+    }
+}
+
+fn mesh(p: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(p)
+        .display()
+        .to_string()
+}
+
+/// The scene `validate --mesh` writes for the stored gmsh tet4 sphere (R = 1 m, 10,537
+/// particles, whole sphere, a stiff penalty), Hertz a = 0.3 m, with the solver `kind`.
+fn tet_sphere(kind: &str) -> String {
+    format!(
+        r#"
+[solver]
+kind = "{kind}"
+tolerance = 1e-4
+[output]
+every = 1000000
+[[body]]
+name = "sphere"
+mesh = "{mesh}"
+kinematics = "small"
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[body]]
+name = "plane"
+kind = "rigid"
+generator = {{ shape = "plane", point = [-0.00013051085395920925, -0.00012203344278993722, -1.0], normal = [0.0, 0.0, 1.0], size = 3.0 }}
+[[load]]
+body = "sphere"
+force = [0.0, 0.0, -3.84e7]
+[[contact]]
+slave = "sphere"
+master = "plane"
+radius = 1e4
+"#,
+        mesh = mesh("meshes/sphere_tet4_h007.msh")
+    )
+}
+
+/// Same equilibrium as ADR at the same tolerance: the fitted contact radius and peak within
+/// 0.05 points of each other, both within 3 % / 5 % of Hertz (a = 0.3 m,
+/// p0 = 3P/(2πa²)); measured: ADR 1,187 iterations, static 42 Newton iterations with 470
+/// conjugate-gradient iterations and 108 force evaluations; radius 0.295029 / 0.295028 m,
+/// peak 2.09833e8 / 2.09835e8 Pa.
+#[test]
+fn static_matches_adr_and_hertz_on_the_stored_tet_sphere() {
+    let dir = temp_dir("tet");
+    let run = |kind: &str| {
+        let scene = Scene::parse(&tet_sphere(kind), "tet.toml", &dir).expect("scene");
+        run_scene(&scene, &quiet(&dir.join(kind))).expect("runs").1
+    };
+    let adr = run("adr");
+    let newton = run("static");
+    assert!(adr.converged && newton.converged);
+    assert_eq!(newton.solver.solver, "static");
+    assert!(newton.residual < 1e-4, "{}", newton.residual);
+    let (a, p0) = (0.3, 3.0 * 3.84e7 / (2.0 * std::f64::consts::PI * 0.09));
+    let (ra, rs) = (adr.contact_radius, newton.contact_radius);
+    let (pa, ps) = (adr.peak_pressure, newton.peak_pressure);
+    assert!((rs - ra).abs() / a < 5e-4, "radius static {rs} adr {ra}");
+    assert!((ps - pa).abs() / p0 < 5e-4, "peak static {ps} adr {pa}");
+    assert!((rs / a - 1.0).abs() < 0.03, "radius {rs}");
+    assert!((ps / p0 - 1.0).abs() < 0.05, "peak {ps} against {p0}");
+    assert!(
+        newton.force_balance_error < 1e-3,
+        "{}",
+        newton.force_balance_error
+    );
+    // Every force evaluation and tangent product is counted.
+    assert!(newton.solver.force_evaluations > newton.solver.iterations);
+    assert!(newton.solver.linear_iterations >= newton.solver.iterations);
+}
+
+/// Two deformable spheres stacked on a rigid floor, quarter models, two passes between
+/// them: both held only by contact. The static solver balances the stack as ADR does
+/// (measured: 9 Newton iterations, 716 conjugate-gradient iterations; ADR 756 iterations).
+#[test]
+fn static_balances_two_spheres_stacked_on_a_plane() {
+    let dir = temp_dir("stack");
+    let text = r#"
+[solver]
+kind = "static"
+tolerance = 1e-4
+[output]
+every = 100000
+[[body]]
+name = "low"
+generator = { shape = "sphere", radius = 0.5, spacing = 0.08, center = [0.0, 0.0, -0.5] }
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[body]]
+name = "high"
+generator = { shape = "sphere", radius = 0.5, spacing = 0.08, center = [0.0, 0.0, 0.5] }
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[body]]
+name = "floor"
+kind = "rigid"
+generator = { shape = "plane", point = [0.0, 0.0, -1.0], normal = [0.0, 0.0, 1.0], size = 2.0 }
+[[load]]
+body = "low"
+force = [0.0, 0.0, -2e5]
+[[load]]
+body = "high"
+force = [0.0, 0.0, -4e5]
+[[contact]]
+slave = "high"
+master = "low"
+two_pass = true
+radius = 0.5
+[[contact]]
+slave = "low"
+master = "floor"
+radius = 0.5
+[[symmetry]]
+body = "low"
+axis = "x"
+[[symmetry]]
+body = "low"
+axis = "y"
+[[symmetry]]
+body = "high"
+axis = "x"
+[[symmetry]]
+body = "high"
+axis = "y"
+"#;
+    let scene = Scene::parse(text, "stack.toml", &dir).expect("scene");
+    let (model, summary) = run_scene(&scene, &quiet(&dir)).expect("runs");
+    assert!(summary.converged);
+    assert!(
+        summary.force_balance_error < 1e-3,
+        "{}",
+        summary.force_balance_error
+    );
+    assert!(
+        (summary.total_contact_force[2] / 6e5 - 1.0).abs() < 1e-3,
+        "{:?}",
+        summary.total_contact_force
+    );
+    let high = model.bodies[1].as_pd().expect("deformable");
+    let on_high: f64 = high.contact_force.iter().map(|f| f.z).sum();
+    assert!(
+        (on_high / 4e5 - 1.0).abs() < 2e-3,
+        "force on the upper sphere {on_high}"
+    );
+}
+
+/// What the static solver does not handle is refused before it solves, naming what to use.
+#[test]
+fn static_refuses_the_short_range_method_by_name() {
+    let dir = temp_dir("short");
+    let text = r#"
+[solver]
+kind = "static"
+[output]
+every = 100000
+[[body]]
+name = "low"
+generator = { shape = "box", min = [0.0, 0.0, -0.4], max = [0.4, 0.4, 0.0], spacing = 0.1 }
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[body]]
+name = "high"
+generator = { shape = "box", min = [0.0, 0.0, 0.01], max = [0.4, 0.4, 0.41], spacing = 0.1 }
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[constraint]]
+body = "low"
+set = "bottom"
+fix = ["x", "y", "z"]
+[[load]]
+body = "high"
+force = [0.0, 0.0, -1e5]
+[[contact]]
+slave = "high"
+master = "low"
+method = "short-range"
+"#;
+    let scene = Scene::parse(text, "short.toml", &dir).expect("scene");
+    match run_scene(&scene, &quiet(&dir)) {
+        Err(Error::Input(m)) => assert!(m.contains("point-to-surface") && m.contains("adr"), "{m}"),
+        other => panic!(
+            "expected an input error, got {:?}",
+            other.map(|r| r.1.converged)
+        ),
+    }
+}
