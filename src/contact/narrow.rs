@@ -321,12 +321,17 @@ pub fn select_across_edge(
         .map(|k| own[k])
         .collect();
     let mut mean = Vec3::zeros();
-    for (other, q, _) in candidates {
+    for (other, q, q_outside) in candidates {
         if !nodes(other).iter().any(|n| support.contains(n)) {
             continue;
         }
         let facing = n_s.dot(&q.normal);
-        if facing < EDGE_FACING && q.gap >= 0.0 {
+        // In front of a segment that shares the edge or vertex, and near it: the edge is
+        // convex. A segment the slave projects far outside of (beyond the window) tells
+        // nothing of the edge: its plane passes elsewhere (a neighbour of the vertex at
+        // another height on a curved, unstructured master vetoed slaves that its
+        // neighbours held, and they sank through).
+        if facing < EDGE_FACING && q.gap >= 0.0 && q_outside <= window {
             return None;
         }
         if facing < -FACING {

@@ -223,19 +223,6 @@ fn sound(model: &Model) -> bool {
         })
 }
 
-/// Per contact pass, its slaves in contact at the last evaluation, sorted.
-fn in_contact(model: &Model) -> Vec<Vec<u32>> {
-    model
-        .passes
-        .iter()
-        .map(|p| {
-            let mut s: Vec<u32> = p.contacts.iter().map(|c| c.slave).collect();
-            s.sort_unstable();
-            s
-        })
-        .collect()
-}
-
 /// What the solver counts.
 #[derive(Default)]
 struct Counts {
@@ -369,7 +356,7 @@ fn increment(
     let mut work = [Dofs::zeros(model), Dofs::zeros(model), Dofs::zeros(model)];
     let mut stabilise = 1.0;
     let mut previous: Option<f64> = None;
-    let mut settled: Vec<Vec<u32>> = vec![Vec::new(); model.passes.len()];
+    let mut previous_tangent: Option<Tangent> = None;
     for it in 0..NEWTON_PER_INCREMENT {
         let r = residual(model, &mut rhs);
         let rel = r / reference;
@@ -388,8 +375,7 @@ fn increment(
             )));
         }
         counts.newton += 1;
-        let mut tangent = Tangent::new(model, stabilise, &settled, bond_blocks);
-        settled = in_contact(model);
+        let mut tangent = Tangent::new(model, stabilise, previous_tangent.as_ref(), bond_blocks);
         stabilise *= 0.5;
         // Inexact Newton (Eisenstat and Walker's second choice): loose while the residual
         // falls slowly, tight as it falls fast, never much tighter than the tolerance needs.
@@ -412,6 +398,7 @@ fn increment(
                 "Newton iteration {it}: no step along the Newton direction keeps every slave outside its master"
             )));
         }
+        previous_tangent = Some(tangent);
     }
     Ok(Increment::Failed(format!(
         "{NEWTON_PER_INCREMENT} Newton iterations without reaching the tolerance (residual {:.3e})",
@@ -472,7 +459,9 @@ fn line_search(model: &mut Model, d: &Dofs, g0: f64, scratch: &mut Dofs) -> bool
                 a.clamp(lo_end, hi_end)
             }
             Some((a_hi, _)) => 0.5 * (lo + a_hi),
-            None => 2.0 * lo,
+            // Still going down at α = lo: further, up to four full steps.
+            None if lo < 4.0 => (2.0 * lo).min(4.0),
+            None => return true,
         };
     }
     // The last trial was not good enough: take the last sound state, which lowered the

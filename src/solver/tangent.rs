@@ -133,6 +133,9 @@ enum Master {
 /// One penalty spring of the tangent: `k n⊗n` between a slave particle and its master.
 #[derive(Clone, Copy, Debug)]
 struct Spring {
+    /// The contact pass, and whether the spring is a contact's (not the stabilisation's).
+    pass: usize,
+    contact: bool,
     body: usize,
     slave: u32,
     normal: Vec3,
@@ -184,20 +187,49 @@ fn reflect_vector(pd: &PdBody, v: Vec3, mask: u8) -> Vec3 {
 
 impl Tangent {
     /// The tangent at the model's current state (forces evaluated there), with the
-    /// stabilisation's factor `stabilise` (0: none); `settled` lists, per contact pass, the
-    /// slaves (sorted) that were in contact at the Newton iteration before, which get their
-    /// contact's own tangent (the others at least the light-contact stiffness). `bond_blocks` caches the bonds' diagonal
+    /// stabilisation's factor `stabilise` (0: none). The slaves that were in contact in the
+    /// `previous` tangent get their contact's own tangent (the others at least the
+    /// light-contact stiffness). `bond_blocks` caches the bonds' diagonal
     /// blocks of linearised bodies, which do not change.
     pub fn new(
         model: &Model,
         stabilise: f64,
-        settled: &[Vec<u32>],
+        previous: Option<&Tangent>,
         bond_blocks: &mut [Option<Vec<Matrix3<f64>>>],
     ) -> Tangent {
         let nb = model.bodies.len();
+        // The previous iteration's contacts, per pass, sorted.
+        let mut settled: Vec<Vec<u32>> = vec![Vec::new(); model.passes.len()];
+        for s in previous.map_or(&[][..], |t| &t.springs[..]) {
+            if s.contact {
+                settled[s.pass].push(s.slave);
+            }
+        }
+        settled.iter_mut().for_each(|v| v.sort_unstable());
         let mut springs = Vec::new();
-        for (pass, settled) in model.passes.iter().zip(settled) {
-            springs.extend(pass_springs(model, pass, stabilise, settled));
+        for (q, pass) in model.passes.iter().enumerate() {
+            springs.extend(pass_springs(model, q, pass, stabilise, &settled[q]));
+        }
+        // A contact that opened since the iteration before keeps its spring in the tangent
+        // for one iteration: without it the step lets the slave fall freely back through
+        // the master, deep, and the contact opens and closes from one iteration to the
+        // next (two slaves facing each other's nodes across a two-pass pair did so).
+        if let Some(prev) = previous {
+            let mut now: Vec<(usize, u32)> = springs
+                .iter()
+                .filter(|s| s.contact)
+                .map(|s| (s.pass, s.slave))
+                .collect();
+            now.sort_unstable();
+            springs.extend(
+                prev.springs
+                    .iter()
+                    .filter(|s| s.contact && now.binary_search(&(s.pass, s.slave)).is_err())
+                    .map(|s| Spring {
+                        contact: false,
+                        ..*s
+                    }),
+            );
         }
         let current: Vec<Vec<Vec3>> = model
             .bodies
@@ -394,7 +426,13 @@ pub(super) fn scale_and_mask(model: &Model, out: &mut Dofs) {
 
 /// The springs of one contact pass: its contacts, and the stabilisation of the slaves that
 /// may touch and do not.
-fn pass_springs(model: &Model, pass: &ContactPass, stabilise: f64, settled: &[u32]) -> Vec<Spring> {
+fn pass_springs(
+    model: &Model,
+    q: usize,
+    pass: &ContactPass,
+    stabilise: f64,
+    settled: &[u32],
+) -> Vec<Spring> {
     let Some(sb) = model.bodies[pass.slave].as_pd() else {
         return Vec::new();
     };
@@ -430,6 +468,8 @@ fn pass_springs(model: &Model, pass: &ContactPass, stabilise: f64, settled: &[u3
         };
         let k = pass.weight * sb.case.ghosts.share(s) * tangent.min(pass.law.max_tangent());
         out.push(Spring {
+            pass: q,
+            contact: true,
             body: pass.slave,
             slave: c.slave,
             normal: c.projection.normal,
@@ -451,6 +491,8 @@ fn pass_springs(model: &Model, pass: &ContactPass, stabilise: f64, settled: &[u3
                 _ => Master::Ground,
             };
             out.push(Spring {
+                pass: q,
+                contact: false,
                 body: pass.slave,
                 slave: s,
                 // The master's normal opposes the slave's where they touch.
