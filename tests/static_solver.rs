@@ -66,9 +66,9 @@ radius = 1e4
 
 /// Same equilibrium as ADR at the same tolerance: the fitted contact radius and peak within
 /// 0.05 points of each other, both within 3 % / 5 % of Hertz (a = 0.3 m,
-/// p0 = 3P/(2πa²)); measured: ADR 1,187 iterations, static 42 Newton iterations with 470
-/// conjugate-gradient iterations and 108 force evaluations; radius 0.295029 / 0.295028 m,
-/// peak 2.09833e8 / 2.09835e8 Pa.
+/// p0 = 3P/(2πa²)); measured: ADR 1,187 iterations, static 41 Newton iterations with 476
+/// conjugate-gradient iterations and 103 force evaluations; radius 0.295029 / 0.295027 m,
+/// peak 2.09833e8 / 2.09834e8 Pa.
 #[test]
 fn static_matches_adr_and_hertz_on_the_stored_tet_sphere() {
     let dir = temp_dir("tet");
