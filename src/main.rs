@@ -130,6 +130,11 @@ enum Command {
         /// Not with --study
         #[arg(long, value_name = "BOOL", default_value_t = true, action = clap::ArgAction::Set, conflicts_with = "study")]
         skin_correction: bool,
+        /// The quasi-static solver: adaptive dynamic relaxation (adr, the default) or
+        /// Newton-Raphson (static; docs/PERFORMANCE.md, "The static solver"), written into
+        /// each scene. Not with --study
+        #[arg(long, value_enum, default_value_t = SolverArg::Adr, conflicts_with = "study")]
+        solver: SolverArg,
         /// Output folder (one subfolder per run).
         #[arg(short, long, default_value = "pdcontact-validate")]
         output: PathBuf,
@@ -239,6 +244,15 @@ impl ProblemArg {
             ProblemArg::All => vec![Problem::Sphere, Problem::Roller, Problem::Punch],
         }
     }
+}
+
+/// `validate --solver`: the quasi-static solver written into the scenes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum SolverArg {
+    /// Adaptive dynamic relaxation.
+    Adr,
+    /// Newton-Raphson with a matrix-free tangent.
+    Static,
 }
 
 /// `validate --second-order`: which nodes of a second-order mesh become particles.
@@ -422,10 +436,12 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             second_order,
             refine,
             skin_correction,
+            solver,
             output,
             json,
             quiet,
         } => {
+            let static_solver = solver == SolverArg::Static;
             if let Some(mesh) = mesh {
                 let problem = match case.unwrap_or(ProblemArg::Sphere) {
                     ProblemArg::Sphere => Problem::Sphere,
@@ -446,6 +462,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                         second_order: second_order.map(Into::into).unwrap_or_default(),
                         refine: refine.unwrap_or(0),
                         skin_correction,
+                        static_solver,
                         compare: refine.is_none()
                             && second_order.is_none()
                             && horizon_factor.is_none(),
@@ -463,6 +480,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                     &case.problems(),
                     &set.sets(),
                     skin_correction,
+                    static_solver,
                     &output,
                     quiet,
                 )?,

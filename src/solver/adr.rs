@@ -6,7 +6,7 @@
 use rayon::prelude::*;
 
 use super::unheld::{PastCheck, EVERY};
-use super::{check_missed, free_factor, Monitor, RunStats};
+use super::{applied_norm, check_missed, free_factor, scale_loads, Monitor, RunStats};
 use crate::body::Body;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
@@ -76,23 +76,6 @@ fn bond_density(model: &Model) -> Vec<Vec<f64>> {
             Body::Rigid(_) => Vec::new(),
         })
         .collect()
-}
-
-/// Norm of the applied loads (the ADR reference force).
-fn applied_norm(model: &Model) -> f64 {
-    let mut s = 0.0;
-    for b in &model.bodies {
-        match b {
-            Body::Deformable(pd) => {
-                for (f, &m) in pd.load.iter().zip(&pd.fixed) {
-                    s += f.component_mul(&free_factor(m)).norm_squared();
-                }
-            }
-            Body::Rigid(rb) if rb.motion == Motion::Free => s += rb.load.dot(&rb.axis).powi(2),
-            Body::Rigid(_) => {}
-        }
-    }
-    s.sqrt()
 }
 
 /// What ADR's per-iteration pass sums over the particles.
@@ -173,16 +156,7 @@ pub fn adr(
     for step in 1..=steps {
         let scale = step as f64 / steps as f64;
         if steps > 1 {
-            for (b, (loads, rigid)) in model.bodies.iter_mut().zip(&full) {
-                match b {
-                    Body::Deformable(pd) => {
-                        for (l, f) in pd.load.iter_mut().zip(loads) {
-                            *l = f * scale;
-                        }
-                    }
-                    Body::Rigid(rb) => rb.load = rigid * scale,
-                }
-            }
+            scale_loads(model, &full, scale);
         }
         model.gather();
         monitor.load_increment(model, scale, n)?;

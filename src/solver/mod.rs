@@ -43,7 +43,7 @@ use crate::body::{Body, FIX_X, FIX_Y, FIX_Z};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::model::Model;
-use crate::scene::{SolverKind, SolverSpec};
+use crate::scene::{Motion, SolverKind, SolverSpec};
 
 /// Default ADR tolerance.
 pub const DEFAULT_TOLERANCE: f64 = 1e-4;
@@ -159,6 +159,38 @@ pub fn solve(model: &mut Model, spec: &SolverSpec, monitor: &mut dyn Monitor) ->
             monitor,
         ),
         SolverKind::Explicit => explicit(model, spec, monitor),
+    }
+}
+
+/// Norm of the applied loads on the free degrees of freedom at the current load factor: the
+/// reference force of ADR's and the static solver's convergence test.
+pub(super) fn applied_norm(model: &Model) -> f64 {
+    let mut s = 0.0;
+    for b in &model.bodies {
+        match b {
+            Body::Deformable(pd) => {
+                for (f, &m) in pd.load.iter().zip(&pd.fixed) {
+                    s += f.component_mul(&free_factor(m)).norm_squared();
+                }
+            }
+            Body::Rigid(rb) if rb.motion == Motion::Free => s += rb.load.dot(&rb.axis).powi(2),
+            Body::Rigid(_) => {}
+        }
+    }
+    s.sqrt()
+}
+
+/// Sets every body's loads to `scale` times the full ones.
+pub(super) fn scale_loads(model: &mut Model, full: &[(Vec<Vec3>, Vec3)], scale: f64) {
+    for (b, (loads, rigid)) in model.bodies.iter_mut().zip(full) {
+        match b {
+            Body::Deformable(pd) => {
+                for (l, f) in pd.load.iter_mut().zip(loads) {
+                    *l = f * scale;
+                }
+            }
+            Body::Rigid(rb) => rb.load = rigid * scale,
+        }
     }
 }
 

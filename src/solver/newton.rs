@@ -15,7 +15,7 @@
 //! degrees of freedom is below `tolerance · ‖F_applied‖₂`.
 
 use super::tangent::{scale_and_mask, Dofs, Tangent};
-use super::{check_missed, free_factor, Monitor, RunStats};
+use super::{applied_norm, check_missed, free_factor, scale_loads, Monitor, RunStats};
 use crate::body::Body;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
@@ -177,37 +177,6 @@ fn pcg(
         rz = rz_new;
     }
     MAX_LINEAR
-}
-
-/// Norm of the applied loads at the current load factor (the reference force, as ADR's).
-fn applied_norm(model: &Model) -> f64 {
-    let mut s = 0.0;
-    for b in &model.bodies {
-        match b {
-            Body::Deformable(pd) => {
-                for (f, &m) in pd.load.iter().zip(&pd.fixed) {
-                    s += f.component_mul(&free_factor(m)).norm_squared();
-                }
-            }
-            Body::Rigid(rb) if rb.motion == Motion::Free => s += rb.load.dot(&rb.axis).powi(2),
-            Body::Rigid(_) => {}
-        }
-    }
-    s.sqrt()
-}
-
-/// Sets every body's loads to `scale` times the full ones.
-fn scale_loads(model: &mut Model, full: &[(Vec<Vec3>, Vec3)], scale: f64) {
-    for (b, (loads, rigid)) in model.bodies.iter_mut().zip(full) {
-        match b {
-            Body::Deformable(pd) => {
-                for (l, f) in pd.load.iter_mut().zip(loads) {
-                    *l = f * scale;
-                }
-            }
-            Body::Rigid(rb) => rb.load = rigid * scale,
-        }
-    }
 }
 
 /// Whether the forces just evaluated are usable: finite, and no slave through its master.

@@ -112,6 +112,12 @@ pub struct ValidationCase {
 }
 
 impl ValidationCase {
+    /// The same case solved by the static solver (`kind = "static"` in its `[solver]`).
+    pub fn with_static_solver(mut self) -> Self {
+        self.scene = static_solver(&self.scene);
+        self
+    }
+
     /// The same case with `skin_correction = false` on every deformable body (the balanced
     /// correction alone, [`crate::case::skin`]), run into `<problem>-<label>-noskin/`.
     pub fn without_skin_correction(mut self) -> Self {
@@ -684,10 +690,51 @@ pub const STUDY_DAMPING: f64 = 1500.0;
 /// e^{−c t} = e^{−30} by then.
 pub const STUDY_END_TIME: f64 = 0.02;
 
+/// `scene` with its `[solver]`'s `kind = "adr"` turned into `kind = "static"` (the
+/// static solver, [`crate::solver::newton`]); the other keys stay: its tolerance is ADR's,
+/// and its `max_iterations`, far above what Newton takes, only caps it.
+pub fn static_solver(scene: &str) -> String {
+    let mut out = String::with_capacity(scene.len() + 16);
+    let mut done = false;
+    for line in scene.lines() {
+        if !done && line.trim_start().starts_with("kind = \"adr\"") {
+            out.push_str(
+                "kind = \"static\"            # quasi-static: Newton-Raphson (the static solver)",
+            );
+            done = true;
+        } else {
+            out.push_str(line);
+        }
+        out.push('\n');
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::scene::{BodyKind, Scene};
+
+    /// `validate --solver static`: every stored scene parses with the static solver and
+    /// keeps everything else (tolerance, bodies, contacts).
+    #[test]
+    fn static_solver_changes_the_solver_kind_only() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mesh = root.join("meshes").join(SPHERE_MESH_NAME);
+        let problems = [Problem::Sphere, Problem::Roller, Problem::Punch];
+        for case in cases(&problems, &[Set::Paper, Set::Hertz], &mesh) {
+            let plain = Scene::parse(&case.scene, "plain", root).expect("scene");
+            let label = case.label.clone();
+            let newton = case.with_static_solver();
+            assert_eq!(newton.label, label);
+            let parsed = Scene::parse(&newton.scene, "static", root).expect("static scene");
+            assert_eq!(plain.solver.kind, crate::scene::SolverKind::Adr);
+            assert_eq!(parsed.solver.kind, crate::scene::SolverKind::Static);
+            assert_eq!(parsed.solver.tolerance, plain.solver.tolerance);
+            assert_eq!(parsed.bodies.len(), plain.bodies.len());
+            assert_eq!(parsed.contacts.len(), plain.contacts.len());
+        }
+    }
 
     /// `validate --skin-correction false`: every stored scene still parses and checks, with
     /// the key on each deformable body and on no rigid one, and runs into its own folder.

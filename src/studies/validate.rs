@@ -71,6 +71,7 @@ pub fn run_selection(
     problems: &[Problem],
     sets: &[Set],
     skin_correction: bool,
+    static_solver: bool,
     folder: &Path,
     quiet: bool,
 ) -> Result<Selection> {
@@ -86,6 +87,11 @@ pub fn run_selection(
             c
         } else {
             c.without_skin_correction()
+        };
+        let c = if static_solver {
+            c.with_static_solver()
+        } else {
+            c
         };
         if !quiet {
             eprintln!(

@@ -164,6 +164,8 @@ pub struct BodyChoices {
     /// The skin correction ([`crate::case::skin`]; on, as in `run`, unless the user turns it
     /// off).
     pub skin_correction: bool,
+    /// Solve with the static solver (`kind = "static"`) instead of ADR.
+    pub static_solver: bool,
     /// Where the contact spans fewer than [`MIN_CONTACT_SPACINGS`] spacings, also run the body
     /// with the finer particles that the mesh allows ([`Remedy`]), as a second row: what the
     /// mesh gives as it is, and what one key in the scene gives. The command line sets it
@@ -178,6 +180,7 @@ impl Default for BodyChoices {
             second_order: SecondOrder::default(),
             refine: 0,
             skin_correction: true,
+            static_solver: false,
             compare: false,
         }
     }
@@ -351,6 +354,9 @@ keep = "negative"
             y0 = num(y0),
             y1 = num(y1),
         ));
+    }
+    if body.static_solver {
+        scene = crate::studies::scenarios::static_solver(&scene);
     }
     ValidationCase {
         problem,
