@@ -281,3 +281,36 @@ fn short_range_on_two_ranks() {
     assert_identical(&a, &b);
     assert!(num(&a, "contact_pairs") > 0.0, "{a}");
 }
+
+/// The static solver is not decomposed over ranks yet: under `mpirun` it refuses before it
+/// solves (exit 2), naming the reason and ADR, instead of solving each rank's part alone.
+#[test]
+fn static_solver_refuses_to_run_on_ranks() {
+    let dir = temp_dir("static");
+    let out = Command::new(exe())
+        .args(["demo", "--quiet", "-o"])
+        .arg(&dir)
+        .output()
+        .expect("demo runs");
+    assert!(out.status.success());
+    let scene = std::fs::read_to_string(dir.join("scene.toml")).expect("scene");
+    let scene = scene.replacen("kind = \"adr\"", "kind = \"static\"", 1);
+    let path = dir.join("static.toml");
+    std::fs::write(&path, scene).expect("written");
+    let out = Command::new("mpirun")
+        .args(["--oversubscribe", "-n", "2", exe()])
+        .args(["run", "--quiet", "-o"])
+        .arg(dir.join("many"))
+        .arg(&path)
+        .env("RAYON_NUM_THREADS", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .output()
+        .expect("mpirun runs (install Open MPI: apt install openmpi-bin)");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("static solver runs in one process") && stderr.contains("adr"),
+        "{stderr}"
+    );
+}
