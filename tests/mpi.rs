@@ -32,6 +32,30 @@ fn summary(out: &std::process::Output, dir: &Path) -> serde_json::Value {
     serde_json::from_str(&text).expect("summary is JSON")
 }
 
+/// `pdcontact demo` written into `dir` (its scene.toml and mesh).
+fn write_demo(dir: &Path) {
+    let out = Command::new(exe())
+        .args(["demo", "--quiet", "-o"])
+        .arg(dir)
+        .output()
+        .expect("demo runs");
+    assert!(out.status.success());
+}
+
+/// `pdcontact run` of `scene` into `out` by `mpirun -n ranks`, on 1 thread each.
+fn on_ranks(ranks: usize, out: &Path, scene: &Path) -> std::process::Output {
+    Command::new("mpirun")
+        .args(["--oversubscribe", "-n", &ranks.to_string(), exe()])
+        .args(["run", "--quiet", "-o"])
+        .arg(out)
+        .arg(scene)
+        .env("RAYON_NUM_THREADS", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .output()
+        .expect("mpirun runs (install Open MPI: apt install openmpi-bin)")
+}
+
 /// `scene` run in one process on 2 threads, and by `mpirun -n ranks` on 1 thread each.
 fn both(scene: &Path, ranks: usize) -> (serde_json::Value, serde_json::Value) {
     let dir = scene.parent().expect("folder");
@@ -45,16 +69,7 @@ fn both(scene: &Path, ranks: usize) -> (serde_json::Value, serde_json::Value) {
         .expect("runs");
     let a = summary(&out, &one);
     let many = dir.join("many");
-    let out = Command::new("mpirun")
-        .args(["--oversubscribe", "-n", &ranks.to_string(), exe()])
-        .args(["run", "--quiet", "-o"])
-        .arg(&many)
-        .arg(scene)
-        .env("RAYON_NUM_THREADS", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .output()
-        .expect("mpirun runs (install Open MPI: apt install openmpi-bin)");
+    let out = on_ranks(ranks, &many, scene);
     let b = summary(&out, &many);
     (a, b)
 }
@@ -85,12 +100,7 @@ fn assert_identical(a: &serde_json::Value, b: &serde_json::Value) {
 #[test]
 fn demo_on_two_ranks() {
     let dir = temp_dir("demo");
-    let out = Command::new(exe())
-        .args(["demo", "--quiet", "-o"])
-        .arg(&dir)
-        .output()
-        .expect("demo runs");
-    assert!(out.status.success());
+    write_demo(&dir);
     let (a, b) = both(&dir.join("scene.toml"), 2);
     assert_identical(&a, &b);
     // Each rank wrote its particles' piece of every frame: put together in rank order they
@@ -287,26 +297,12 @@ fn short_range_on_two_ranks() {
 #[test]
 fn static_solver_refuses_to_run_on_ranks() {
     let dir = temp_dir("static");
-    let out = Command::new(exe())
-        .args(["demo", "--quiet", "-o"])
-        .arg(&dir)
-        .output()
-        .expect("demo runs");
-    assert!(out.status.success());
+    write_demo(&dir);
     let scene = std::fs::read_to_string(dir.join("scene.toml")).expect("scene");
     let scene = scene.replacen("kind = \"adr\"", "kind = \"static\"", 1);
     let path = dir.join("static.toml");
     std::fs::write(&path, scene).expect("written");
-    let out = Command::new("mpirun")
-        .args(["--oversubscribe", "-n", "2", exe()])
-        .args(["run", "--quiet", "-o"])
-        .arg(dir.join("many"))
-        .arg(&path)
-        .env("RAYON_NUM_THREADS", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .output()
-        .expect("mpirun runs (install Open MPI: apt install openmpi-bin)");
+    let out = on_ranks(2, &dir.join("many"), &path);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{stderr}");
     assert!(

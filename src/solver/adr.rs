@@ -6,7 +6,7 @@
 use rayon::prelude::*;
 
 use super::unheld::{PastCheck, EVERY};
-use super::{applied_norm, check_missed, free_factor, scale_loads, Monitor, RunStats};
+use super::{applied_norm, check_missed, free_factor, full_loads, scale_loads, Monitor, RunStats};
 use crate::body::Body;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
@@ -144,14 +144,7 @@ pub fn adr(
         ..Default::default()
     };
     let steps = load_steps.max(1);
-    let full: Vec<(Vec<Vec3>, Vec3)> = model
-        .bodies
-        .iter()
-        .map(|b| match b {
-            Body::Deformable(pd) => (pd.load.clone(), Vec3::zeros()),
-            Body::Rigid(rb) => (Vec::new(), rb.load),
-        })
-        .collect();
+    let full = full_loads(model);
     let mut n = 0;
     for step in 1..=steps {
         let scale = step as f64 / steps as f64;

@@ -180,6 +180,18 @@ pub(super) fn applied_norm(model: &Model) -> f64 {
     s.sqrt()
 }
 
+/// Every body's full loads (per particle, or a rigid body's whole), for [`scale_loads`].
+pub(super) fn full_loads(model: &Model) -> Vec<(Vec<Vec3>, Vec3)> {
+    model
+        .bodies
+        .iter()
+        .map(|b| match b {
+            Body::Deformable(pd) => (pd.load.clone(), Vec3::zeros()),
+            Body::Rigid(rb) => (Vec::new(), rb.load),
+        })
+        .collect()
+}
+
 /// Sets every body's loads to `scale` times the full ones.
 pub(super) fn scale_loads(model: &mut Model, full: &[(Vec<Vec3>, Vec3)], scale: f64) {
     for (b, (loads, rigid)) in model.bodies.iter_mut().zip(full) {

@@ -15,7 +15,7 @@
 //! degrees of freedom is below `tolerance · ‖F_applied‖₂`.
 
 use super::tangent::{scale_and_mask, Dofs, Tangent};
-use super::{applied_norm, check_missed, free_factor, scale_loads, Monitor, RunStats};
+use super::{applied_norm, check_missed, free_factor, full_loads, scale_loads, Monitor, RunStats};
 use crate::body::Body;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
@@ -233,14 +233,7 @@ pub fn newton(
         solver: "static".into(),
         ..Default::default()
     };
-    let full: Vec<(Vec<Vec3>, Vec3)> = model
-        .bodies
-        .iter()
-        .map(|b| match b {
-            Body::Deformable(pd) => (pd.load.clone(), Vec3::zeros()),
-            Body::Rigid(rb) => (Vec::new(), rb.load),
-        })
-        .collect();
+    let full = full_loads(model);
     let nominal = 1.0 / load_steps.max(1) as f64;
     let mut step = nominal;
     let mut done = 0.0;
