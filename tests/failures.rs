@@ -276,7 +276,8 @@ fn missed_contact_of_a_soft_penalty() {
     let f = failing_run("soft", &scene("kind = \"adr\"", 2, 0.0, &extra));
     assert!(
         f.message.contains("missed contact at iteration")
-            && f.message.contains("penalty is too soft"),
+            && f.message.contains("penalty is too soft")
+            && f.message.contains("the deepest: node"),
         "{}",
         f.message
     );

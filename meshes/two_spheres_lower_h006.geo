@@ -1,0 +1,13 @@
+// The lower body of the two-sphere test (tests/two_bodies.rs, docs/VALIDATION.md,
+// "Two deformable bodies"): an eighth (x >= 0, y >= 0, z >= -1) of a sphere of R = 1 m
+// centred at (0, 0, -1), touching the origin; its equator becomes a symmetry plane (a sphere
+// pressed at both poles); gmsh's defaults with only the size set (tet4, h = 0.06 m).
+// gmsh two_spheres_lower_h006.geo -3 -o two_spheres_lower_h006.msh
+SetFactory("OpenCASCADE");
+Sphere(1) = {0, 0, -1, 1};
+Box(2) = {0, 0, -1, 2, 2, 2.5};
+BooleanIntersection(3) = { Volume{1}; Delete; }{ Volume{2}; Delete; };
+Mesh.MeshSizeMin = 0.06;
+Mesh.MeshSizeMax = 0.06;
+Mesh.Binary = 1;
+Mesh.MshFileVersion = 4.1;
