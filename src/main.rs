@@ -135,6 +135,11 @@ enum Command {
         /// each scene. Not with --study
         #[arg(long, value_enum, default_value_t = SolverArg::Adr, conflicts_with = "study")]
         solver: SolverArg,
+        /// With --mesh: press the sphere on a rigid plane (default), or on a copy of itself
+        /// (two deformable bodies meshed alike, each held sideways at its centre; Hertz for two
+        /// identical spheres, one row per body; docs/VALIDATION.md, "Two deformable bodies").
+        #[arg(long, value_enum, default_value_t = PartnerArg::Plane, requires = "mesh")]
+        partner: PartnerArg,
         /// Output folder (one subfolder per run).
         #[arg(short, long, default_value = "pdcontact-validate")]
         output: PathBuf,
@@ -253,6 +258,15 @@ enum SolverArg {
     Adr,
     /// Newton-Raphson with a matrix-free tangent.
     Static,
+}
+
+/// `validate --partner`: what the mesh is pressed on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum PartnerArg {
+    /// A rigid plane.
+    Plane,
+    /// A copy of the mesh (two deformable bodies).
+    Copy,
 }
 
 /// `validate --second-order`: which nodes of a second-order mesh become particles.
@@ -437,6 +451,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             refine,
             skin_correction,
             solver,
+            partner,
             output,
             json,
             quiet,
@@ -445,6 +460,11 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             if let Some(mesh) = mesh {
                 let problem = match case.unwrap_or(ProblemArg::Sphere) {
                     ProblemArg::Sphere => Problem::Sphere,
+                    ProblemArg::Roller if partner == PartnerArg::Copy => {
+                        return Err(Error::input(
+                            "validate --mesh --partner copy presses a sphere on its copy; a roller on its copy is not offered yet: use --case sphere, or --partner plane",
+                        ))
+                    }
                     ProblemArg::Roller => Problem::Roller,
                     ProblemArg::Punch | ProblemArg::All => {
                         return Err(Error::input(
@@ -463,6 +483,10 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                         refine: refine.unwrap_or(0),
                         skin_correction,
                         static_solver,
+                        partner: match partner {
+                            PartnerArg::Plane => pdcontact::studies::user_mesh::Partner::Plane,
+                            PartnerArg::Copy => pdcontact::studies::user_mesh::Partner::Copy,
+                        },
                         compare: refine.is_none()
                             && second_order.is_none()
                             && horizon_factor.is_none(),

@@ -310,7 +310,7 @@ fn validation_scenes_estimate_their_theory() {
                 ContactShape::Line,
                 hertz_cylinder(*load_per_length, *radius, e_stars[0].1).0,
             ),
-            Reference::Punch { .. } => unreachable!(),
+            Reference::Punch { .. } | Reference::SpherePair { .. } => unreachable!(),
         };
         assert_eq!(e.shape, shape, "{}", case.label);
         assert!(

@@ -192,6 +192,32 @@ fn sets_that_do_not_exist() {
     );
 }
 
+/// A constraint names one set or one point (`nearest`), not both nor neither.
+#[test]
+fn constraint_needs_a_set_or_a_point() {
+    for (case, lines, what) in [
+        (
+            "constraint-both",
+            "set = \"bottom\"\nnearest = [0.0, 0.0, 0.0]\n",
+            "found both",
+        ),
+        ("constraint-neither", "", "found neither"),
+        (
+            "constraint-nan",
+            "nearest = [0.0, nan, 0.0]\n",
+            "nearest must be a finite point",
+        ),
+    ] {
+        let text = format!("{GOOD}\n[[constraint]]\nbody = \"block\"\n{lines}fix = [\"x\"]\n");
+        assert_error(
+            case,
+            &text,
+            "[[constraint]]",
+            &[what, "constraint on \"block\""],
+        );
+    }
+}
+
 #[test]
 fn material_constants() {
     let text = GOOD.replace("youngs_modulus = 1e9", "youngs_modulus = -1e9");

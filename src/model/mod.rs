@@ -87,7 +87,14 @@ impl Model {
                     Axis::Z => FIX_Z,
                 };
             }
-            for p in set_particles(scene, pd, &c.set)? {
+            let particles = match (&c.set, c.nearest) {
+                (Some(set), _) => set_particles(scene, pd, set)?,
+                (None, Some(point)) => nearest_particle(pd, Vec3::from(point))
+                    .into_iter()
+                    .collect(),
+                (None, None) => Vec::new(),
+            };
+            for p in particles {
                 pd.fixed[p as usize] |= mask;
             }
         }
@@ -421,6 +428,15 @@ pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
 }
 
 /// Particles of a named set of a body's mesh (its corner nodes that are particles).
+/// The particle nearest `point` (reference positions; the first of equals).
+fn nearest_particle(pd: &PdBody, point: Vec3) -> Option<u32> {
+    (0..pd.len() as u32).min_by(|&a, &b| {
+        let da = (pd.case.particles.position[a as usize] - point).norm_squared();
+        let db = (pd.case.particles.position[b as usize] - point).norm_squared();
+        da.total_cmp(&db)
+    })
+}
+
 fn set_particles(scene: &Scene, pd: &PdBody, name: &str) -> Result<Vec<u32>> {
     let mesh = &pd.case.mesh;
     let Some(set) = mesh.set(name) else {

@@ -159,11 +159,17 @@ pub fn force_balance(model: &Model) -> (Vec3, Vec3, f64) {
             net[a] = 0.0;
         }
     }
-    let error = if applied.norm() > 0.0 {
-        net.norm() / applied.norm()
-    } else {
-        0.0
-    };
+    // Measured against the loads body by body: two bodies loaded towards each other (a
+    // sphere pressed on its copy) apply next to nothing in all.
+    let scale: f64 = model
+        .bodies
+        .iter()
+        .map(|b| match b {
+            Body::Deformable(pd) => pd.load.iter().sum::<Vec3>().norm(),
+            Body::Rigid(rb) => rb.load.norm(),
+        })
+        .sum();
+    let error = if scale > 0.0 { net.norm() / scale } else { 0.0 };
     (contact, applied, error)
 }
 

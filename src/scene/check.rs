@@ -231,8 +231,31 @@ impl Scene {
                 ));
             }
         }
-        for c in &self.constraints {
+        for (k, c) in self.constraints.iter().enumerate() {
             let b = body(&c.body, &format!("body = \"{}\"", c.body))?;
+            match (&c.set, &c.nearest) {
+                (Some(_), None) => {}
+                (None, Some(p)) if p.iter().all(|x| x.is_finite()) => {}
+                (None, Some(p)) => {
+                    let [x, y, z] = p.map(num);
+                    return Err(block_err(
+                        "[[constraint]]",
+                        k,
+                        format!("constraint on \"{}\": nearest must be a finite point [x, y, z], got [{x}, {y}, {z}]", excerpt(&c.body)),
+                    ));
+                }
+                (set, nearest) => {
+                    return Err(block_err(
+                        "[[constraint]]",
+                        k,
+                        format!(
+                            "constraint on \"{}\": expected one of `set = \"NAME\"` (a named set of the mesh) and `nearest = [x, y, z]` (the particle nearest a point), found {}",
+                            excerpt(&c.body),
+                            if set.is_some() && nearest.is_some() { "both" } else { "neither" }
+                        ),
+                    ));
+                }
+            }
             if b.kind == BodyKind::Rigid {
                 return Err(err(
                     "fix",

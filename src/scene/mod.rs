@@ -293,13 +293,20 @@ pub struct LoadSpec {
     pub force: [f64; 3],
 }
 
-/// `[[constraint]]`: fixed displacement components of a set.
+/// `[[constraint]]`: fixed displacement components of a set, or of the one particle nearest a
+/// point.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ConstraintSpec {
     pub body: String,
     /// A named set (node or element set) of the body's mesh.
-    pub set: String,
+    #[serde(default)]
+    pub set: Option<String>,
+    /// Instead of a set: the particle nearest this point (m, where the body is placed). A
+    /// pin that holds a body's rigid motion where its loads already balance (the centre of a
+    /// sphere pressed on another, held sideways), with a reaction near zero.
+    #[serde(default)]
+    pub nearest: Option<[f64; 3]>,
     /// Components held at zero: any of "x", "y", "z".
     pub fix: Vec<Axis>,
 }

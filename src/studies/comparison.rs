@@ -69,7 +69,7 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
     )?;
     let wall = start.elapsed().as_secs_f64();
     let strip = match &case.reference {
-        Reference::Sphere { .. } => None,
+        Reference::Sphere { .. } | Reference::SpherePair { .. } => None,
         Reference::Roller { axis, .. } => Some(*axis),
         Reference::Punch { .. } => Some(Vec3::y()),
     };
@@ -77,7 +77,8 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
         .ok_or_else(|| Error::numerical(format!("{}: no contact formed", dir.display())))?;
     let mut rows = Vec::new();
     let mut charted: Vec<(String, f64, f64, Accuracy)> = Vec::new();
-    let variants: Vec<(String, f64, f64, Accuracy)> = match &case.reference {
+    // (label, a, p0, accuracy, peak pressure) per row.
+    let variants: Vec<(String, f64, f64, Accuracy, f64)> = match &case.reference {
         Reference::Sphere {
             load,
             radius,
@@ -86,9 +87,29 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
             .iter()
             .map(|(label, e)| {
                 let (a, p0) = hertz_sphere(*load, *radius, *e);
-                (label.clone(), a, p0, elliptic_accuracy(&patch, a, p0))
+                (
+                    label.clone(),
+                    a,
+                    p0,
+                    elliptic_accuracy(&patch, a, p0),
+                    patch.peak,
+                )
             })
             .collect(),
+        Reference::SpherePair {
+            load,
+            r_star,
+            e_star,
+        } => {
+            let (a, p0) = hertz_sphere(*load, *r_star, *e_star);
+            (0..model.bodies.len())
+                .filter_map(|k| {
+                    let p = contact_patch(&model, k, None)?;
+                    let name = model.bodies[k].name().to_string();
+                    Some((name, a, p0, elliptic_accuracy(&p, a, p0), p.peak))
+                })
+                .collect()
+        }
         Reference::Roller {
             load_per_length,
             radius,
@@ -98,7 +119,13 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
             .iter()
             .map(|(label, e)| {
                 let (a, p0) = hertz_cylinder(*load_per_length, *radius, *e);
-                (label.clone(), a, p0, elliptic_accuracy(&patch, a, p0))
+                (
+                    label.clone(),
+                    a,
+                    p0,
+                    elliptic_accuracy(&patch, a, p0),
+                    patch.peak,
+                )
             })
             .collect(),
         Reference::Punch {
@@ -111,11 +138,12 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
                 *half_width,
                 p0,
                 punch_accuracy(&patch, *half_width, *load_per_length),
+                patch.peak,
             )]
         }
     };
     let chart = dir.join("pressure.svg");
-    for (label, a, p0, acc) in &variants {
+    for (label, a, p0, acc, peak) in &variants {
         rows.push(ValidationRow {
             case: case.problem.name().into(),
             set: case.set.name().into(),
@@ -133,11 +161,11 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
             theory_peak_pressure: *p0,
             fitted_radius: acc.fitted_radius,
             fitted_peak_pressure: acc.fitted_peak,
-            peak_pressure: patch.peak,
+            peak_pressure: *peak,
             samples: acc.samples,
             peak_error: match case.problem {
                 Problem::Punch => None,
-                _ => Some(patch.peak / p0 - 1.0),
+                _ => Some(peak / p0 - 1.0),
             },
             chart: chart.clone(),
         });

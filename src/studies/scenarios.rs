@@ -91,6 +91,10 @@ pub enum Reference {
         e_stars: Vec<(String, f64)>,
         axis: Vec3,
     },
+    /// Hertz for two deformable spheres pressed together (METHOD.md §7): the load on the
+    /// whole pair's contact, `R*` and `E*` of the pair; each deformable body's contact
+    /// pressure is compared with it, one row per body, named after the body.
+    SpherePair { load: f64, r_star: f64, e_star: f64 },
     /// Sadowsky punch: load per unit length, half-width.
     Punch {
         load_per_length: f64,
