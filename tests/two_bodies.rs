@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use pdcontact::output::analysis::{contact_patch, elliptic_accuracy, hertz_sphere};
-use pdcontact::run::{run_scene, RunOptions, RunSummary};
+use pdcontact::run::{check_scene, run_scene, RunOptions, RunSummary};
 use pdcontact::scene::Scene;
 
 const YOUNGS: f64 = 1e9;
@@ -172,6 +172,11 @@ fn two_gmsh_tet_spheres_pressed_together_agree_with_hertz() {
         rigid.summary.iterations
     );
     assert_eq!(s.missed_contacts, 0);
+    assert!(
+        !s.warnings.iter().any(|w| w.contains("two_pass")),
+        "{:?}",
+        s.warnings
+    );
     assert_eq!(adr.bodies.len(), 2);
     // Measured: upper MRE 4.38 %, radius +1.73 %; lower 3.10 %, −1.56 %; on the rigid plane
     // 4.40 %, +1.74 %. At a/Δ ≈ 5 the mesh, not the second body, sets the error.
@@ -226,6 +231,14 @@ fn one_pass_miss_names_the_particle_and_clears_the_penalty() {
     let path = dir.join("scene.toml");
     std::fs::write(&path, scene("adr", "tet4", false)).expect("scene written");
     let scene = Scene::load(&path).expect("scene reads");
+    // Said before the run: two bodies as fine as each other, one pass.
+    let (_, warnings, _) = check_scene(&scene).expect("the scene checks");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("two_pass = false") && w.contains("set two_pass = true")),
+        "{warnings:?}"
+    );
     let result = run_scene(
         &scene,
         &RunOptions {

@@ -215,3 +215,34 @@ fn check_overlaps(scene: &Scene, model: &Model) -> Result<()> {
     }
     Ok(())
 }
+
+/// A master coarser than this many slave spacings is what one pass is for; finer, its
+/// particles can pass between the slave's.
+const ONE_PASS_RATIO: f64 = 2.0;
+
+/// Warnings for contact pairs of two deformable bodies checked one way only (`two_pass`
+/// off) whose master is about as fine as the slave: only the slave's particles are kept out
+/// of the master, so the master's can pass between them. Measured on two gmsh tet spheres
+/// pressed together (docs/VALIDATION.md, "Two deformable bodies"): one pass lost a slave in
+/// ADR's first hundred iterations, two passes converged.
+pub(super) fn one_pass_warnings(scene: &Scene, model: &Model) -> Vec<String> {
+    let index = |name: &str| scene.bodies.iter().position(|b| b.name == name);
+    scene
+        .contacts
+        .iter()
+        .filter(|c| !c.two_pass && c.method == crate::scene::ContactMethod::PointToSurface)
+        .filter_map(|c| {
+            let (s, m) = (index(&c.slave)?, index(&c.master)?);
+            let (sb, mb) = (model.bodies[s].as_pd()?, model.bodies[m].as_pd()?);
+            (mb.spacing() < ONE_PASS_RATIO * sb.spacing()).then(|| {
+                format!(
+                    "contact \"{}\"/\"{}\": two deformable bodies checked one way (two_pass = false) with a master about as fine as the slave (Δ = {} m against {} m): the master's particles are not kept out of the slave and can pass between its particles; set two_pass = true (docs/VALIDATION.md, \"Two deformable bodies\")",
+                    c.slave,
+                    c.master,
+                    short(mb.spacing()),
+                    short(sb.spacing())
+                )
+            })
+        })
+        .collect()
+}
