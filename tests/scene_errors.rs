@@ -192,6 +192,32 @@ fn sets_that_do_not_exist() {
     );
 }
 
+/// A vector has three components: a fourth (or a missing one) is refused at its line, not
+/// dropped.
+#[test]
+fn vectors_have_three_components() {
+    let four = GOOD.replacen(
+        "normal = [0.0, 0.0, 1.0]",
+        "normal = [0.0, 0.0, 1.0, 0.0]",
+        1,
+    );
+    assert_ne!(four, GOOD);
+    assert_error(
+        "vector-four",
+        &four,
+        "normal = [0.0, 0.0, 1.0, 0.0]",
+        &["expected a vector of 3 components [x, y, z], found 4 components"],
+    );
+    let text =
+        format!("{GOOD}\n[[constraint]]\nbody = \"block\"\nnearest = [0.0, 0.0]\nfix = [\"x\"]\n");
+    assert_error(
+        "vector-two",
+        &text,
+        "nearest = [0.0, 0.0]",
+        &["found 2 components"],
+    );
+}
+
 /// A constraint names one set or one point (`nearest`), not both nor neither.
 #[test]
 fn constraint_needs_a_set_or_a_point() {

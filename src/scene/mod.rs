@@ -183,6 +183,7 @@ pub struct BodySpec {
     /// Applied after loading: scale, then rotate, then translate.
     pub scale: Option<f64>,
     pub rotate: Option<RotateSpec>,
+    #[serde(default, deserialize_with = "three_opt")]
     pub translate: Option<[f64; 3]>,
     /// Grid spacing Δ (default: a generator's cell size; for a mesh, the lattice spacing of the
     /// particles' median volume).
@@ -220,13 +221,16 @@ pub struct BodySpec {
     /// without it a rigid body is infinitely stiff).
     pub material: Option<MaterialSpec>,
     /// Initial velocity of a deformable body, m/s.
+    #[serde(default, deserialize_with = "three_opt")]
     pub velocity: Option<[f64; 3]>,
     /// Rigid bodies: how the body moves.
     #[serde(default)]
     pub motion: Motion,
     /// Rigid bodies with `motion = "velocity"`: the velocity, m/s.
+    #[serde(default, deserialize_with = "three_opt")]
     pub motion_velocity: Option<[f64; 3]>,
     /// Rigid bodies with `motion = "free"`: the axis it may translate along.
+    #[serde(default, deserialize_with = "three_opt")]
     pub free_axis: Option<[f64; 3]>,
     /// Rigid bodies with `motion = "free"`: its mass, kg (explicit runs).
     pub mass: Option<f64>,
@@ -246,14 +250,17 @@ pub struct GeneratorSpec {
     /// Box: the upper corner; caps: the footprint's upper corner.
     pub max: Option<Vec<f64>>,
     /// Plane: a point on it.
+    #[serde(default, deserialize_with = "three_opt")]
     pub point: Option<[f64; 3]>,
     /// Plane: its normal, pointing out of the rigid body (toward the other body).
+    #[serde(default, deserialize_with = "three_opt")]
     pub normal: Option<[f64; 3]>,
     /// Plane: side length of the square patch.
     pub size: Option<f64>,
     /// Plane: quads along each side (default 1).
     pub divisions: Option<usize>,
     /// Centre of a sphere, cylinder or cap (default origin).
+    #[serde(default, deserialize_with = "three_opt")]
     pub center: Option<[f64; 3]>,
     /// Cap: how far the contact surface reaches to each side of the lowest point.
     pub half_width: Option<f64>,
@@ -265,8 +272,10 @@ pub struct GeneratorSpec {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RotateSpec {
+    #[serde(deserialize_with = "three")]
     pub axis: [f64; 3],
     pub angle_deg: f64,
+    #[serde(default, deserialize_with = "three_opt")]
     pub center: Option<[f64; 3]>,
 }
 
@@ -290,6 +299,7 @@ pub struct LoadSpec {
     /// A named set of the body's mesh; without it, the whole body (as a body force by volume).
     pub set: Option<String>,
     /// Total force, N.
+    #[serde(deserialize_with = "three")]
     pub force: [f64; 3],
 }
 
@@ -305,7 +315,7 @@ pub struct ConstraintSpec {
     /// Instead of a set: the particle nearest this point (m, where the body is placed). A
     /// pin that holds a body's rigid motion where its loads already balance (the centre of a
     /// sphere pressed on another, held sideways), with a reaction near zero.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "three_opt")]
     pub nearest: Option<[f64; 3]>,
     /// Components held at zero: any of "x", "y", "z".
     pub fix: Vec<Axis>,
@@ -591,6 +601,26 @@ fn locate(text: &str, needle: &str) -> (usize, usize) {
         return (1, 1);
     }
     text.find(needle).map_or((1, 1), |p| line_col(text, p))
+}
+
+/// A vector of the scene: exactly three components `[x, y, z]`. A fourth (a typo, a value
+/// meant for another key) is refused at its line rather than dropped.
+fn three<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<[f64; 3], D::Error> {
+    let v: Vec<f64> = Deserialize::deserialize(d)?;
+    <[f64; 3]>::try_from(v.as_slice()).map_err(|_| {
+        serde::de::Error::custom(format!(
+            "expected a vector of 3 components [x, y, z], found {} component{}",
+            v.len(),
+            if v.len() == 1 { "" } else { "s" }
+        ))
+    })
+}
+
+/// [`three`] for an optional key.
+fn three_opt<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<Option<[f64; 3]>, D::Error> {
+    three(d).map(Some)
 }
 
 #[cfg(test)]
