@@ -86,10 +86,14 @@ fn shared_planes(slave: &PdBody, master: MasterView) -> Vec<(u8, u8, usize)> {
 /// neighbours.
 fn plane_edge(segment: &MasterSegment, on: impl Fn(u32) -> bool) -> Option<(usize, usize)> {
     let corners = if segment.is_triangle() { 3 } else { 4 };
-    let hits: Vec<usize> = (0..corners).filter(|&k| on(segment.nodes[k])).collect();
-    match hits[..] {
-        [a, b] if b == a + 1 => Some((a, b)),
-        [0, b] if b == corners - 1 => Some((b, 0)),
+    let (mut hits, mut count) = ([0usize; 4], 0);
+    for k in (0..corners).filter(|&k| on(segment.nodes[k])) {
+        hits[count] = k;
+        count += 1;
+    }
+    match (count, hits[0], hits[1]) {
+        (2, a, b) if b == a + 1 => Some((a, b)),
+        (2, 0, b) if b == corners - 1 => Some((b, 0)),
         _ => None,
     }
 }
