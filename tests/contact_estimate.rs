@@ -111,13 +111,13 @@ fn coarse_tet_sphere_under_a_small_load_warns_with_the_hertz_numbers() {
     assert_eq!(w.len(), 2, "{w:?}");
     assert_eq!(w[1], r.penalty_warning().expect("a soft penalty"));
     let expect = format!(
-        "contact \"ball\"/\"plane\": expected contact radius ≈ 0.0655 m spans {n:.1} particle spacings (Δ = {:.3} m)",
+        "contact \"ball\"/\"plane\": expected contact radius ≈ 0.0655 m spans {n:.1} surface spacings (h = {:.3} m, √ of the median tributary area of the surface particles there; the body's spacing Δ = ",
         r.spacing
     );
     assert!(w[0].starts_with(&expect), "{}\nexpected {expect}", w[0]);
     assert!(
         w[0].contains(&format!(
-            "refine the mesh near the contact to Δ ≤ {:.4} m",
+            "refine the mesh near the contact to h ≤ {:.4} m",
             a / 5.0
         )),
         "{}",
@@ -363,7 +363,7 @@ fn convert_chooses_a_resolved_load_or_says_how_fine_a_mesh_it_needs() {
     let w = w[0].as_str().unwrap();
     assert!(
         w.contains("expected contact radius ≈ 0.150 m")
-            && w.contains("refine the mesh near the contact to Δ ≤ 0.0300 m"),
+            && w.contains("refine the mesh near the contact to h ≤ 0.0300 m"),
         "{w}"
     );
     // The mesh is first-order tets: the warning names what the body can do about it.

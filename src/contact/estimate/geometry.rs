@@ -81,7 +81,8 @@ pub(super) fn ray_triangle(o: Vec3, dir: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Opt
 /// Curvature tensor `[H_uu, H_uv, H_vv]` (1/m, positive where the surface curves away from the
 /// other body) of a body's surface around `q`, and the fit window's radius. `sign` is −1 for
 /// the slave (the surface lies behind `q` along `d`), +1 for the master. `None` when fewer than
-/// [`FIT_POINTS`] facing nodes (images included) are there to fit.
+/// [`FIT_POINTS`] facing nodes (images included; `4^refine` times that on a cut mesh,
+/// [`ContactSurface::refine`]) are there to fit.
 pub(super) fn fit_curvature(
     s: &ContactSurface,
     nodes: &[u32],
@@ -98,12 +99,13 @@ pub(super) fn fit_curvature(
             samples.push([r.dot(&e1), r.dot(&e2), sign * r.dot(&d)]);
         }
     }
-    if samples.len() < FIT_POINTS {
+    let fit_points = FIT_POINTS << (2 * s.refine.min(4));
+    if samples.len() < fit_points {
         return None;
     }
     let dist = |p: &[f64; 3]| (p[0] * p[0] + p[1] * p[1]).sqrt();
     samples.sort_by(|a, b| dist(a).total_cmp(&dist(b)));
-    let window = dist(&samples[FIT_POINTS - 1]) * (1.0 + 1e-9);
+    let window = dist(&samples[fit_points - 1]) * (1.0 + 1e-9);
     // The nearest in the tangent plane, not behind the surface (a thin body's far side).
     samples.retain(|p| dist(p) <= window && p[2].abs() <= window);
     if samples.len() < 6 {
