@@ -167,6 +167,7 @@ pub fn convert(
     options: CaseOptions,
 ) -> Result<(PdCase, ConvertSummary)> {
     let start = Instant::now();
+    let spacing = options.spacing;
     let mesh = read_path(mesh_path, format)?;
     let import = start.elapsed().as_secs_f64();
     let case = PdCase::build(mesh, options).map_err(|e| match e {
@@ -176,7 +177,7 @@ pub fn convert(
     std::fs::create_dir_all(out).map_err(|e| Error::output(out, e))?;
     let t = Instant::now();
     let skeleton = SkeletonLoad::choose(&case);
-    write_case_files_with(&case, mesh_path, out, &skeleton)?;
+    write_case_files_with(&case, mesh_path, out, &skeleton, spacing)?;
     let seconds = ConvertSeconds {
         import,
         discretize: case.times.discretize,
@@ -249,6 +250,7 @@ impl SkeletonLoad {
             load: Vec3::zeros(),
             compliance: 0.0,
             grid_spacing: 0.0,
+            refine: 0,
         };
         let compliance = (1.0 - SKELETON_POISSON * SKELETON_POISSON) / SKELETON_YOUNGS;
         let at = |force: f64| {
@@ -283,18 +285,18 @@ impl SkeletonLoad {
         let (reason, mut warnings) = if capped && n < RESOLVED_SPACINGS {
             (
                 format!(
-                    "expected Hertz contact {} ≈ {} m = {SMALL_STRAIN_RATIO} R (R = {} m), the most small strain allows; {RESOLVED_SPACINGS} particle spacings across it need Δ ≤ {} m",
+                    "expected Hertz contact {} ≈ {} m = {SMALL_STRAIN_RATIO} R (R = {} m), the most small strain allows; {RESOLVED_SPACINGS} surface spacings across it need h ≤ {} m (h: √ of the surface particles' median tributary area)",
                     e.what(), sig(e.radius), sig(e.curvature_radius()), sig(e.radius / RESOLVED_SPACINGS)
                 ),
                 vec![format!(
-                    "case.toml: the load {} N gives an expected contact {} ≈ {} m, the most small-strain Hertz allows on this body (a = {SMALL_STRAIN_RATIO} R, R = {} m), which spans {n:.1} particle spacings (Δ = {} m); Hertz-level pressure needs ≥ {RESOLVED_SPACINGS} spacings across it — refine the mesh near the contact to Δ ≤ {} m{}",
-                    sig(force), e.what(), sig(e.radius), sig(e.curvature_radius()), sig(resolution.spacing), sig(e.radius / RESOLVED_SPACINGS), resolution.mesh_hint()
+                    "case.toml: the load {} N gives an expected contact {} ≈ {} m, the most small-strain Hertz allows on this body (a = {SMALL_STRAIN_RATIO} R, R = {} m), which spans {n:.1} surface spacings (h = {} m{}); Hertz-level pressure needs ≥ {RESOLVED_SPACINGS} spacings across it — refine the mesh near the contact to h ≤ {} m{}",
+                    sig(force), e.what(), sig(e.radius), sig(e.curvature_radius()), sig(resolution.spacing), resolution.spacing_note(), sig(e.radius / RESOLVED_SPACINGS), resolution.mesh_hint()
                 )],
             )
         } else {
             (
                 format!(
-                    "expected Hertz contact {} ≈ {} m = {n:.1} particle spacings (Δ = {} m), the resolution of Hertz-level pressure",
+                    "expected Hertz contact {} ≈ {} m = {n:.1} surface spacings (h = {} m, √ of the surface particles' median tributary area), the resolution of Hertz-level pressure",
                     e.what(), sig(e.radius), sig(resolution.spacing)
                 ),
                 resolution.resolution_warning().into_iter().collect(),
@@ -337,15 +339,19 @@ fn plane_size(case: &PdCase) -> f64 {
 /// Writes `particles.vtu`, `segments.vtu` and `case.toml` (with [`SkeletonLoad::choose`]'s
 /// load).
 pub fn write_case_files(case: &PdCase, mesh_path: &Path, out: &Path) -> Result<()> {
-    write_case_files_with(case, mesh_path, out, &SkeletonLoad::choose(case))
+    write_case_files_with(case, mesh_path, out, &SkeletonLoad::choose(case), None)
 }
 
-/// Writes `particles.vtu`, `segments.vtu` and `case.toml` with the skeleton's load.
+/// Writes `particles.vtu`, `segments.vtu` and `case.toml` with the skeleton's load; `spacing`
+/// is the spacing given to `convert` (`--spacing`), written as the body's; without it the
+/// case leaves the spacing to `run`, which finds the same one from the mesh and, with a
+/// `refine` added, from the refined mesh.
 pub fn write_case_files_with(
     case: &PdCase,
     mesh_path: &Path,
     out: &Path,
     skeleton: &SkeletonLoad,
+    spacing: Option<f64>,
 ) -> Result<()> {
     let p = &case.particles;
     let mesh = &case.mesh;
@@ -390,13 +396,19 @@ pub fn write_case_files_with(
             Field::vector("normal", segs.iter().map(|s| s.normal).collect()),
         ],
     )?;
-    let toml = case_toml(case, mesh_path, out, skeleton);
+    let toml = case_toml(case, mesh_path, out, skeleton, spacing);
     let path = out.join("case.toml");
     write_atomically(&path, |w| std::io::Write::write_all(w, toml.as_bytes()))
 }
 
 /// The scene skeleton: this body pressed by a load onto a rigid plane just below it.
-fn case_toml(case: &PdCase, mesh_path: &Path, out: &Path, skeleton: &SkeletonLoad) -> String {
+fn case_toml(
+    case: &PdCase,
+    mesh_path: &Path,
+    out: &Path,
+    skeleton: &SkeletonLoad,
+    given_spacing: Option<f64>,
+) -> String {
     let mesh_ref = relative_mesh_path(mesh_path, out);
     let (lo, hi) = case.mesh.bbox().unwrap_or(([0.0; 3], [1.0; 3]));
     let centre: Vec<f64> = (0..3).map(|k| 0.5 * (hi[k] + lo[k])).collect();
@@ -412,7 +424,7 @@ fn case_toml(case: &PdCase, mesh_path: &Path, out: &Path, skeleton: &SkeletonLoa
     format!(
         r#"# pdcontact scene made by `pdcontact convert` for {mesh_name}.
 # Run it with:  pdcontact run {case_path}
-# Every key is documented in the README ("Scene files"). Lengths in metres, forces in newtons.
+# Every key is documented in docs/guide/scene.md. Units are SI: metres, newtons, pascals, kg/m³.
 
 [solver]
 kind = "adr"              # "adr" (quasi-static, adaptive dynamic relaxation) or "explicit"
@@ -427,8 +439,8 @@ every = 500               # write a .vtu every N iterations (and the last one)
 name = "part"
 mesh = "{mesh_ref}"
 kind = "deformable"       # a PD body: particles, bonds, surface
-spacing = {spacing:e}     # grid spacing Δ (lattice spacing of the particles' median volume)
-horizon_factor = {m}      # horizon δ = m Δ
+{spacing_line}horizon_factor = {m}      # horizon δ = m Δ
+kinematics = "small"      # small strain, as Hertz's theory and the estimate above; "finite" for large deformation
 {second_order}{refine}# translate = [0.0, 0.0, 0.0]
 # rotate = {{ axis = [0.0, 0.0, 1.0], angle_deg = 0.0 }}
 # scale = 1.0
@@ -453,10 +465,38 @@ force = [0.0, 0.0, {fz:e}]  # total force, N: {reason}
 [[contact]]
 slave = "part"
 master = "plane"
-{penalty}"#,
+{penalty}
+# A frictionless plane holds the body along its normal only: these pins (each the particle
+# nearest its point, held across the load) stop it sliding, rolling and spinning. The load and
+# the contact balance, so they carry next to nothing; remove them where supports of your own
+# hold the body sideways (docs/guide/scene.md, "Loads, supports, symmetry").
+[[constraint]]
+body = "part"
+nearest = [{pcx}, {pcy}, {pcz}]   # the centre of its bounding box
+fix = ["x", "y"]
+
+[[constraint]]
+body = "part"
+nearest = [{pcx}, {pcy}, {ptz}]   # the top of its vertical axis: with the centre, no rolling
+fix = ["x", "y"]
+
+[[constraint]]
+body = "part"
+nearest = [{psx}, {pcy}, {pcz}]   # off the axis, held across it: no spinning about it
+fix = ["y"]
+"#,
         mesh_name = mesh_path.display(),
         case_path = out.join("case.toml").display(),
-        spacing = case.particles.spacing,
+        // One Δ: the spacing `run` finds from the mesh is the one this case was built with,
+        // so the key stays a comment unless it was given; written, it would outlive a
+        // `refine = 1` that halves the particles' spacing and double the horizon in spacings.
+        spacing_line = match given_spacing {
+            Some(dx) => format!("spacing = {dx:e}     # grid spacing Δ, as given to convert\n"),
+            None => format!(
+                "# spacing = {:e}   # grid spacing Δ: by default, as here, the lattice spacing of the particles' median volume\n",
+                case.particles.spacing
+            ),
+        },
         m = case.horizon_factor,
         second_order = match case.second_order {
             SecondOrder::AllNodes => {
@@ -483,6 +523,12 @@ master = "plane"
         nu = SKELETON_POISSON,
         cx = centre[0],
         cy = centre[1],
+        // A pin takes the particle nearest its point: four digits place it.
+        pcx = pin(centre[0]),
+        pcy = pin(centre[1]),
+        pcz = pin(centre[2]),
+        ptz = pin(hi[2]),
+        psx = pin(centre[0] + 0.25 * (hi[0] - lo[0])),
         pz = lo[2],
         fz = -skeleton.force,
         reason = skeleton.reason,
@@ -491,6 +537,11 @@ master = "plane"
             100.0 * PENALTY_TARGET
         )),
     )
+}
+
+/// A pin's coordinate to four significant digits, as TOML reads it.
+fn pin(x: f64) -> String {
+    format!("{x:.3e}")
 }
 
 /// One comment line per named set: name, kind, node count.
