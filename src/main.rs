@@ -634,6 +634,9 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                     summary.wall_seconds,
                     summary.outputs.pvd.display()
                 );
+                if let Some(a) = &summary.accuracy {
+                    eprintln!("{}", a.line());
+                }
             }
             Ok(interrupted(&summary))
         }

@@ -22,6 +22,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
@@ -30,7 +31,7 @@ use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::model::Model;
 use crate::output::analysis::{normal_forces, surface_loads};
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 
 use crate::output::vtk::{
     write_atomically, write_pvtu, write_vtm, write_vtu_with_field_data, BlockNode, CellSpec, Field,
@@ -478,6 +479,20 @@ pub struct RunMonitor {
     /// The last step reported: number, (pseudo-)time and measure (residual or energy drift),
     /// so that a run that fails can still say how far it got.
     pub last_step: (usize, f64, f64),
+    /// Where stderr is not a terminal (a log file, a batch job, a pipe) the bar draws nothing:
+    /// a plain line every [`plain_progress_every`] instead, from the run's start, the last
+    /// line's time and the interval.
+    plain: Option<(Instant, Instant, Duration)>,
+}
+
+/// How often a run whose stderr is not a terminal prints a progress line: every 5 s, or every
+/// `PDCONTACT_PROGRESS_SECONDS` (a batch system's log may want fewer lines).
+pub fn plain_progress_every() -> Duration {
+    std::env::var("PDCONTACT_PROGRESS_SECONDS")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|s| s.is_finite() && *s >= 0.0)
+        .map_or(Duration::from_secs(5), Duration::from_secs_f64)
 }
 
 impl RunMonitor {
@@ -502,12 +517,17 @@ impl RunMonitor {
             f.adr = adr;
             f
         });
+        let plain = (!quiet && !std::io::stderr().is_terminal()).then(|| {
+            let now = Instant::now();
+            (now, now, plain_progress_every())
+        });
         RunMonitor {
             frames,
             bar,
             label: if adr { "residual" } else { "energy drift" },
             stop,
             last_step: (0, 0.0, 0.0),
+            plain,
         }
     }
 }
@@ -523,6 +543,17 @@ impl Monitor for RunMonitor {
                 model.verlet_rebuilds()
             ));
             self.bar.tick();
+        }
+        if let Some((start, last, every)) = &mut self.plain {
+            if last.elapsed() >= *every {
+                *last = Instant::now();
+                eprintln!(
+                    "{:.0} s: step {step}, {} {measure:.3e}, contacts {}",
+                    start.elapsed().as_secs_f64(),
+                    self.label,
+                    model.contact_count()
+                );
+            }
         }
         if let Some(f) = &mut self.frames {
             if step.is_multiple_of(f.every) {

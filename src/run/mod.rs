@@ -1,8 +1,11 @@
 //! `pdcontact run`: a scene from file to frames and a `summary.json`; `checks.rs`: what is
-//! refused once the model is built, before solving.
+//! refused once the model is built, before solving; `report.rs`: what a run says after it
+//! (its contact against the estimate, bodies that drifted).
 
 mod checks;
 mod held;
+pub mod report;
+mod units;
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -55,8 +58,12 @@ pub struct RunSummary {
     /// chosen solver ignores (`tolerance` in an explicit run, `dt` in ADR), then about the
     /// contacts (a
     /// contact expected to span fewer than 3 particle spacings, uneven tributary areas where
-    /// it will be), prefixed with the pair.
+    /// it will be), prefixed with the pair; last, what the run found ([`report::drift_warnings`]:
+    /// a body that slid or rolled).
     pub warnings: Vec<String>,
+    /// The run's contact against the estimate's, where it applies (one pair, a circular point
+    /// contact): [`report::AccuracyCheck`].
+    pub accuracy: Option<report::AccuracyCheck>,
     /// Per contact pair: the Hertz estimate of its contact under the loads, the slave's
     /// particle spacing and tributary-area ratio there ([`crate::contact::estimate`]).
     pub contact_estimates: Vec<ContactResolution>,
@@ -227,6 +234,7 @@ pub fn check_scene(scene: &Scene) -> Result<(Model, Vec<String>, Vec<ContactReso
             .iter()
             .flat_map(ContactResolution::warnings),
     );
+    warnings.extend(units::scale_warnings(scene, &model, &contact_estimates));
     Ok((model, warnings, contact_estimates))
 }
 
@@ -327,9 +335,19 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
     let decomposition = model.domain.as_ref().map(|d| d.layout());
     let (contact, applied, balance) = force_balance(&model);
     let (radius, peak) = patch_figures(&model);
+    let accuracy = report::AccuracyCheck::of(&contact_estimates, radius, peak);
+    let after = report::drift_warnings(&model);
+    if !options.quiet && root {
+        for w in &after {
+            eprintln!("warning: {w}");
+        }
+    }
+    let mut warnings = warnings;
+    warnings.extend(after);
     let summary = RunSummary {
         scene: scene.source.clone(),
         warnings,
+        accuracy,
         contact_estimates,
         particles: model.particles(),
         bonds: model.bonds(),

@@ -1,0 +1,140 @@
+//! What a run says after solving: its contact against the pre-run Hertz estimate, and bodies
+//! that drifted sideways because nothing held them.
+
+use serde::Serialize;
+
+use crate::body::Body;
+use crate::contact::estimate::{ContactResolution, ContactShape};
+use crate::math::Vec3;
+use crate::model::Model;
+
+/// Above this relative difference between the run's contact and the estimate's, the accuracy
+/// line points to `pdcontact validate --mesh`.
+pub const ACCURACY_POINTER: f64 = 0.03;
+
+/// Relative curvatures within this ratio make a circular contact, the one whose radius the
+/// summary's fit (`p0 √(1 − (r/a)²)` about the contact centre) measures.
+const CIRCULAR: f64 = 1.1;
+
+/// A body whose mean displacement across its load exceeds this share of its spacing Δ has
+/// drifted: nothing holds it sideways (a frictionless contact does not).
+pub const DRIFT_SPACINGS: f64 = 0.1;
+
+/// The run's contact against the Hertz estimate made before it (`contact_estimates`), where
+/// the estimate applies: one contact pair, a circular point contact.
+#[derive(Clone, Debug, Serialize)]
+pub struct AccuracyCheck {
+    /// The pair, as warnings name it.
+    pub pair: String,
+    /// Hertz's contact radius `a = (3PR/(4E*))^⅓` of the estimate, m.
+    pub estimated_radius: f64,
+    /// The summary's fitted contact radius, m.
+    pub fitted_radius: f64,
+    /// `fitted / estimated − 1`.
+    pub radius_error: f64,
+    /// Hertz's peak pressure `p0 = 3P/(2πa²)`, Pa.
+    pub estimated_peak: f64,
+    /// The summary's peak pressure, Pa.
+    pub peak: f64,
+    /// `peak / estimated − 1`.
+    pub peak_error: f64,
+    /// The estimate's `a/R` (`R` its radius of relative curvature): `validate --mesh
+    /// --contact-ratio` at this value runs Hertz's test at the same contact size.
+    pub contact_ratio: f64,
+}
+
+impl AccuracyCheck {
+    /// The check, where one pair has a circular point-contact estimate and the run found a
+    /// contact.
+    pub fn of(estimates: &[ContactResolution], fitted_radius: f64, peak: f64) -> Option<Self> {
+        let [only] = estimates else {
+            return None;
+        };
+        let e = only.estimate.as_ref()?;
+        let [k1, k2] = e.curvatures;
+        if e.shape != ContactShape::Point
+            || !(k2 > 0.0 && k1 / k2 <= CIRCULAR)
+            || !(fitted_radius > 0.0 && peak > 0.0 && e.radius > 0.0)
+        {
+            return None;
+        }
+        let estimated_peak = 3.0 * e.load / (2.0 * std::f64::consts::PI * e.radius * e.radius);
+        Some(AccuracyCheck {
+            pair: only.pair(),
+            estimated_radius: e.radius,
+            fitted_radius,
+            radius_error: fitted_radius / e.radius - 1.0,
+            estimated_peak,
+            peak,
+            peak_error: peak / estimated_peak - 1.0,
+            contact_ratio: e.radius / e.curvature_radius(),
+        })
+    }
+
+    /// Whether the run's contact differs from the estimate's by more than
+    /// [`ACCURACY_POINTER`].
+    pub fn differs(&self) -> bool {
+        self.radius_error.abs() > ACCURACY_POINTER || self.peak_error.abs() > ACCURACY_POINTER
+    }
+
+    /// One line: the fitted radius and the peak against the estimate, and where they differ by
+    /// more than 3 %, what to run to learn why.
+    pub fn line(&self) -> String {
+        let mut line = format!(
+            "accuracy: {} contact radius {:.4} m against Hertz's {:.4} m ({:+.1} %), peak pressure {:.4e} Pa against {:.4e} Pa ({:+.1} %)",
+            self.pair,
+            self.fitted_radius,
+            self.estimated_radius,
+            100.0 * self.radius_error,
+            self.peak,
+            self.estimated_peak,
+            100.0 * self.peak_error
+        );
+        if self.differs() {
+            line.push_str(&format!(
+                "; more than {:.0} % apart: `pdcontact validate --mesh MESH --contact-ratio {:.2}` runs Hertz's test on the mesh (a sphere or a cylinder) at this contact size and says what the mesh gives, or the scene is not Hertz's (a load not through the contact, a large strain, a second contact)",
+                100.0 * ACCURACY_POINTER,
+                self.contact_ratio
+            ));
+        }
+        line
+    }
+}
+
+/// Warnings for deformable bodies whose volume-weighted mean displacement across their applied
+/// load is more than [`DRIFT_SPACINGS`] of their spacing: they slid or rolled, and the
+/// contact they make is not where the scene put it.
+pub fn drift_warnings(model: &Model) -> Vec<String> {
+    let mut warnings = Vec::new();
+    for b in &model.bodies {
+        let Body::Deformable(pd) = b else {
+            continue;
+        };
+        let load: Vec3 = pd.load.iter().sum();
+        let volume = &pd.case.particles.volume;
+        let total: f64 = volume.iter().sum();
+        if !(load.norm() > 0.0 && total > 0.0) {
+            continue;
+        }
+        let down = load.normalize();
+        let mean: Vec3 = pd.u.iter().zip(volume).map(|(u, &v)| u * v).sum::<Vec3>() / total;
+        let mut across = mean - down * mean.dot(&down);
+        // A symmetry plane holds the model's mean on it: what is left there is rounding.
+        for plane in &pd.case.ghosts.planes {
+            across[plane.axis] = 0.0;
+        }
+        let spacing = pd.case.particles.spacing;
+        if across.norm() > DRIFT_SPACINGS * spacing {
+            warnings.push(format!(
+                "body \"{}\": drifted {:.3e} m across its load during the run (mean displacement [{:.3e}, {:.3e}, {:.3e}] m; more than {DRIFT_SPACINGS} of its spacing Δ = {:.4e} m): nothing holds it sideways, and a frictionless contact does not, so it slid or rolled and its contact is not where the scene put it; hold it with pins (`[[constraint]]` with `nearest = [x, y, z]` and `fix = [\"x\", \"y\"]` at its centre and on its axis, as `pdcontact convert` writes them) or symmetry planes",
+                pd.name,
+                across.norm(),
+                across[0],
+                across[1],
+                across[2],
+                spacing
+            ));
+        }
+    }
+    warnings
+}

@@ -1,0 +1,238 @@
+//! What `run` tells a user beyond the solve: unit slips before it (a modulus in MPa, a mesh in
+//! millimetres, a density in t/mm³), progress lines in a log, the contact against the pre-run
+//! Hertz estimate after it, bodies that drifted; and the pins that `convert` writes so that
+//! its body cannot drift.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use pdcontact::model::Model;
+use pdcontact::run::report::{drift_warnings, AccuracyCheck, DRIFT_SPACINGS};
+use pdcontact::scene::Scene;
+
+fn exe() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+}
+
+fn repo(p: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pdcontact-reports-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A generated sphere of radius `r` (spacing r/5) on a rigid plane, loaded by volume so that
+/// Hertz gives a = 0.15 r at E = 1 GPa; `youngs`, `density` and the solver block as given.
+fn sphere_scene(r: f64, youngs: f64, density: f64, solver: &str) -> String {
+    let e_star = 1e9 / (1.0 - 0.0625);
+    let load = 4.0 * e_star * (0.15 * r).powi(3) / (3.0 * r);
+    format!(
+        r#"[solver]
+{solver}
+
+[[body]]
+name = "ball"
+generator = {{ shape = "sphere", radius = {r}, spacing = {dx} }}
+kinematics = "small"
+[body.material]
+youngs_modulus = {youngs:e}
+poisson_ratio = 0.25
+density = {density:e}
+
+[[body]]
+name = "plane"
+kind = "rigid"
+generator = {{ shape = "plane", point = [0.0, 0.0, -{r}], normal = [0.0, 0.0, 1.0], size = {size} }}
+
+[[load]]
+body = "ball"
+force = [0.0, 0.0, -{load:e}]
+
+[[contact]]
+slave = "ball"
+master = "plane"
+"#,
+        dx = r / 5.0,
+        size = 3.0 * r,
+    )
+}
+
+/// `run --check`'s warnings on a scene.
+fn check_warnings(dir: &Path, name: &str, scene: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, scene).unwrap();
+    let out = exe()
+        .args(["run", "--check"])
+        .arg(&path)
+        .output()
+        .expect("runs");
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{stderr}");
+    stderr
+}
+
+#[test]
+fn run_check_names_the_likely_unit_slip() {
+    let dir = temp_dir("units");
+    let adr = "kind = \"adr\"";
+    // As meant: nothing about units.
+    let fine = check_warnings(&dir, "fine.toml", &sphere_scene(1.0, 1e9, 1000.0, adr));
+    assert!(!fine.contains("Units are SI"), "{fine}");
+    // E written in MPa: Hertz puts the contact 1e6^⅓ = 100 times wider, 15 m on a 2 m body.
+    let mpa = check_warnings(&dir, "mpa.toml", &sphere_scene(1.0, 1000.0, 1000.0, adr));
+    assert!(
+        mpa.contains("the Hertz estimate puts the contact radius at 15 m on a body 2 m across")
+            && mpa.contains(
+                "youngs_modulus = 1000 Pa is softer than any rubber: was it written in MPa or GPa?"
+            ),
+        "{mpa}"
+    );
+    // A mesh in millimetres with the modulus in MPa and the load in N: only the size shows.
+    let mm = check_warnings(&dir, "mm.toml", &sphere_scene(1000.0, 2.1e5, 1000.0, adr));
+    assert!(
+        mm.contains("body \"ball\": 2000 m across: is its mesh in millimetres?"),
+        "{mm}"
+    );
+    // A density in t/mm³ matters where mass is real: explicit dynamics.
+    let explicit = "kind = \"explicit\"\nend_time = 1e-4";
+    let t_mm3 = check_warnings(&dir, "t.toml", &sphere_scene(1.0, 1e9, 7.85e-9, explicit));
+    assert!(
+        t_mm3.contains("density = 7.85e-9 kg/m³ lies outside what solids have")
+            && t_mm3.contains("tonnes per mm³"),
+        "{t_mm3}"
+    );
+    let g_cm3 = check_warnings(&dir, "g.toml", &sphere_scene(1.0, 1e9, 7.85, explicit));
+    assert!(g_cm3.contains("g/cm³?"), "{g_cm3}");
+    // In ADR the density is the solver's own: no warning.
+    let adr_density = check_warnings(&dir, "a.toml", &sphere_scene(1.0, 1e9, 7.85, adr));
+    assert!(!adr_density.contains("density"), "{adr_density}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_body_that_moved_across_its_load_is_named() {
+    let scene = Scene::parse(
+        &sphere_scene(1.0, 1e9, 1000.0, "kind = \"adr\""),
+        "drift.toml",
+        Path::new("."),
+    )
+    .expect("parses");
+    let mut model = Model::from_scene(&scene).expect("builds");
+    let spacing = model.bodies[0].as_pd().unwrap().case.particles.spacing;
+    let mut moved = |u: [f64; 3]| {
+        let pd = model.bodies[0].as_pd_mut().unwrap();
+        for x in &mut pd.u {
+            *x = u.into();
+        }
+        drift_warnings(&model)
+    };
+    // Along the load: the body pressed into the contact, as meant.
+    assert!(moved([0.0, 0.0, -spacing]).is_empty());
+    // Across it, less than the threshold: nothing.
+    assert!(moved([0.5 * DRIFT_SPACINGS * spacing, 0.0, 0.0]).is_empty());
+    // More: named, with how far and what holds it.
+    let w = moved([0.0, 2.0 * DRIFT_SPACINGS * spacing, -spacing]);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].starts_with(&format!(
+            "body \"ball\": drifted {:.3e} m across its load",
+            2.0 * DRIFT_SPACINGS * spacing
+        )) && w[0].contains("nearest = [x, y, z]"),
+        "{}",
+        w[0]
+    );
+}
+
+#[test]
+fn the_accuracy_line_compares_the_run_with_the_estimate() {
+    let scene = Scene::parse(
+        &sphere_scene(1.0, 1e9, 1000.0, "kind = \"adr\""),
+        "a.toml",
+        Path::new("."),
+    )
+    .expect("parses");
+    let model = Model::from_scene(&scene).expect("builds");
+    let estimates = model.contact_resolution();
+    let e = estimates[0].estimate.clone().expect("a Hertz estimate");
+    assert!((e.radius - 0.15).abs() < 2e-3, "a {}", e.radius);
+    let p0 = 3.0 * e.load / (2.0 * std::f64::consts::PI * e.radius * e.radius);
+    let close = AccuracyCheck::of(&estimates, 1.01 * e.radius, 0.99 * p0).expect("applies");
+    assert!((close.radius_error - 0.01).abs() < 1e-12 && (close.peak_error + 0.01).abs() < 1e-12);
+    assert!(!close.differs());
+    assert!(close.line().ends_with("(-1.0 %)"), "{}", close.line());
+    let far = AccuracyCheck::of(&estimates, 1.1 * e.radius, p0).expect("applies");
+    assert!(far.differs());
+    assert!(
+        far.line().contains("(+10.0 %)")
+            && far
+                .line()
+                .contains("pdcontact validate --mesh MESH --contact-ratio 0.15`"),
+        "{}",
+        far.line()
+    );
+    // No contact found: nothing to compare.
+    assert!(AccuracyCheck::of(&estimates, 0.0, 0.0).is_none());
+}
+
+/// `convert`'s case: small kinematics, the pins that hold a body on a frictionless plane; run
+/// as written it converges, prints progress lines into a log, and ends with the accuracy line
+/// whose figures are the summary's.
+#[test]
+fn the_convert_case_runs_held_and_says_how_close_it_came() {
+    let dir = temp_dir("convert");
+    let out = exe()
+        .args(["convert", "--quiet", "-o"])
+        .arg(&dir)
+        .arg(repo("meshes/sphere_tet4.msh"))
+        .output()
+        .expect("runs");
+    assert!(out.status.success());
+    let toml = std::fs::read_to_string(dir.join("case.toml")).unwrap();
+    assert!(toml.contains("\nkinematics = \"small\""), "{toml}");
+    assert_eq!(toml.matches("[[constraint]]").count(), 3, "{toml}");
+    let run = exe()
+        .arg("run")
+        .arg(dir.join("case.toml"))
+        .env("PDCONTACT_PROGRESS_SECONDS", "0.2")
+        .output()
+        .expect("runs");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    // stderr is a pipe here: plain progress lines, no bar.
+    assert!(
+        stderr
+            .lines()
+            .any(|l| l.contains(" s: step ") && l.contains("residual")),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("drifted"), "{stderr}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(s["converged"], true);
+    let a = &s["accuracy"];
+    let fitted = s["contact_radius"].as_f64().unwrap();
+    assert_eq!(a["fitted_radius"].as_f64().unwrap(), fitted);
+    let estimated = s["contact_estimates"][0]["estimate"]["radius"]
+        .as_f64()
+        .unwrap();
+    assert_eq!(a["estimated_radius"].as_f64().unwrap(), estimated);
+    let line = stderr
+        .lines()
+        .find(|l| l.starts_with("accuracy: "))
+        .expect("an accuracy line");
+    assert!(
+        line.contains(&format!(
+            "contact radius {fitted:.4} m against Hertz's {estimated:.4} m ({:+.1} %)",
+            100.0 * (fitted / estimated - 1.0)
+        )),
+        "{line}"
+    );
+    // 1.1 surface spacings across the contact: far from Hertz, and the line says what to run.
+    assert!(line.contains("pdcontact validate --mesh"), "{line}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
