@@ -187,6 +187,15 @@ fn view_focus(out: &Path) {
     assert!(r["normal"][2].as_f64().expect("nz") < -0.99, "{r}");
     // The camera looks up at the contact through the floor.
     assert!(r["position"][2].as_f64().expect("z") < z, "{r}");
+    // The picture's corner text names the pair and the frame's load factor; the legend, the
+    // pressure's unit.
+    let caption = r["caption"].as_str().expect("caption");
+    assert!(
+        caption.starts_with("block on floor\nload factor 1 (ADR iteration "),
+        "{r}"
+    );
+    let legend = r["legend"].as_str().expect("legend");
+    assert!(legend.starts_with("contact pressure ("), "{r}");
 }
 
 /// Explicit: the timesteps are the times, as each frame's field data `time` says.
@@ -211,9 +220,13 @@ fn explicit_frames_at_their_times() {
 }
 
 /// With ParaView at hand (`pvpython` and `xvfb-run`), `view.py` renders the last frame of the
-/// demo offscreen, and the PNG shows the pressure colour map at the contact: the image centre,
-/// where the camera looks at the loaded surface, is warm (red over blue), its corners are the
-/// background. Skipped, saying so, where ParaView or Python's vtk (to read the PNG) is missing.
+/// demo offscreen through the README's command, and the PNG, at the script's 1600 × 1000, shows
+/// the contact and reads: the image centre, where the camera looks at the loaded surface, is
+/// warm (red over blue) and unlike the background (the upper right corner); the upper left
+/// corner holds the caption (white text), the lower right the legend: its colour bar (red and
+/// blue) and labels; and the text is sized for the picture (a sliver of it white, where the
+/// legend of ParaView's scaled fonts was eight times as much). Skipped, saying so, where
+/// ParaView or Python's vtk (to read the PNG) is missing.
 #[test]
 fn view_py_renders_the_contact_in_paraview() {
     let found = |tool: &str| {
@@ -227,53 +240,73 @@ fn view_py_renders_the_contact_in_paraview() {
         .output()
         .is_ok_and(|o| o.status.success());
     if !(found("pvpython") && found("xvfb-run") && vtk) {
-        eprintln!("pvpython, xvfb-run or python3's vtk not found: view.py rendering skipped");
+        eprintln!("skipped: pvpython, xvfb-run or python3's vtk not found, view.py not rendered");
         return;
     }
     let dir = temp_dir("view");
     let out = dir.join("demo");
-    let status = Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+    let demo = Command::new(env!("CARGO_BIN_EXE_pdcontact"))
         .args(["demo", "--quiet", "--output"])
         .arg(&out)
-        .status()
+        .output()
         .expect("demo runs");
-    assert!(status.success());
+    assert!(
+        demo.status.success(),
+        "{}",
+        String::from_utf8_lossy(&demo.stderr)
+    );
+    let script = out.join("view.py");
+    let focus = Command::new("python3")
+        .arg(&script)
+        .arg("--focus")
+        .output()
+        .expect("python3 runs");
+    assert!(
+        focus.status.success(),
+        "{}",
+        String::from_utf8_lossy(&focus.stderr)
+    );
+    let r: serde_json::Value = serde_json::from_slice(&focus.stdout).expect("JSON");
+    let caption = r["caption"].as_str().expect("caption");
+    assert!(
+        caption.starts_with("ball on plane\nload factor 1 (ADR iteration "),
+        "{r}"
+    );
+    assert_eq!(r["legend"], "contact pressure (MPa)", "{r}");
     let png = dir.join("contact.png");
-    // xvfb-run starts a fresh X server; on a loaded machine pvpython can reach for it before
-    // it accepts connections ("bad X server connection"): that, and only that, is retried.
-    let mut attempts = 0;
-    let render = loop {
-        attempts += 1;
-        let render = Command::new("xvfb-run")
-            .args(["-a", "pvpython"])
-            .arg(out.join("view.py"))
-            .arg(&png)
-            .output()
-            .expect("pvpython runs");
-        let no_display = String::from_utf8_lossy(&render.stdout)
-            .contains("bad X server connection")
-            || String::from_utf8_lossy(&render.stderr).contains("bad X server connection");
-        if render.status.success() || !no_display || attempts == 3 {
-            break render;
-        }
-        std::thread::sleep(std::time::Duration::from_secs(2));
-    };
+    // The README's command. `-noreset`: pvpython connects to the X server three times in a
+    // row, and a server that resets when its last client leaves can refuse the next one
+    // ("bad X server connection").
+    let render = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x1024x24 -noreset", "pvpython"])
+        .arg(&script)
+        .arg(&png)
+        .output()
+        .expect("xvfb-run runs");
     assert!(
         render.status.success() && png.is_file(),
         "{}{}",
         String::from_utf8_lossy(&render.stdout),
         String::from_utf8_lossy(&render.stderr)
     );
-    // Mean colour of a small window at the centre and of a corner, as "r g b" lines.
+    // The picture's size; the mean colour of a window at the centre and of the upper right
+    // corner; the fraction of white (text) pixels; and the count of white pixels in the upper
+    // left corner, of white, red and blue ones in the lower right.
     let probe = r#"
 import sys, vtk
 from vtk.util.numpy_support import vtk_to_numpy
 r = vtk.vtkPNGReader(); r.SetFileName(sys.argv[1]); r.Update()
 w, h, _ = r.GetOutput().GetDimensions()
-img = vtk_to_numpy(r.GetOutput().GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3] / 255.0
-c = img[h // 2 - h // 40: h // 2 + h // 40, w // 2 - w // 40: w // 2 + w // 40].reshape(-1, 3).mean(0)
-k = img[: h // 20, : w // 20].reshape(-1, 3).mean(0)
-print(*c); print(*k)
+img = vtk_to_numpy(r.GetOutput().GetPointData().GetScalars()).reshape(h, w, -1)[::-1, :, :3] / 255.0
+white = (img > 0.85).all(2)
+red = (img[:, :, 0] > 0.6) & (img[:, :, 2] < 0.35)
+blue = (img[:, :, 2] > 0.6) & (img[:, :, 0] < 0.4)
+caption = (slice(0, h // 10), slice(0, w // 4))
+legend = (slice(h // 2, h), slice(w * 17 // 20, w))
+print(w, h)
+print(*img[h // 2 - h // 40: h // 2 + h // 40, w // 2 - w // 40: w // 2 + w // 40].reshape(-1, 3).mean(0))
+print(*img[: h // 20, -(w // 20):].reshape(-1, 3).mean(0))
+print(white.mean(), white[caption].sum(), white[legend].sum(), red[legend].sum(), blue[legend].sum())
 "#;
     let probed = Command::new("python3")
         .args(["-c", probe])
@@ -281,21 +314,33 @@ print(*c); print(*k)
         .output()
         .expect("python3 runs");
     let text = String::from_utf8_lossy(&probed.stdout);
-    let rgb: Vec<Vec<f64>> = text
+    let rows: Vec<Vec<f64>> = text
         .lines()
         .map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect())
         .collect();
     assert_eq!(
-        rgb.len(),
-        2,
+        rows.iter().map(Vec::len).collect::<Vec<_>>(),
+        [2, 3, 3, 5],
         "{text}{}",
         String::from_utf8_lossy(&probed.stderr)
     );
-    let (centre, corner) = (&rgb[0], &rgb[1]);
+    assert_eq!(rows[0], [1600.0, 1000.0], "picture size");
+    let (centre, corner) = (&rows[1], &rows[2]);
     assert!(centre[0] > centre[2] + 0.2, "centre not warm: {centre:?}");
     assert!(
         (centre[0] - corner[0]).abs() > 0.2,
         "centre {centre:?}, corner {corner:?}"
     );
+    let (white, caption, legend, red, blue) =
+        (rows[3][0], rows[3][1], rows[3][2], rows[3][3], rows[3][4]);
+    assert!(
+        caption > 100.0,
+        "no caption in the upper left corner: {text}"
+    );
+    assert!(
+        legend > 100.0 && red > 100.0 && blue > 100.0,
+        "no legend in the lower right corner: {text}"
+    );
+    assert!(white < 0.004, "text oversized: {:.2}% white", 100.0 * white);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -8,9 +8,16 @@ In ParaView's Python shell: `import os; os.chdir("RUN_FOLDER"); exec(open("view.
 
 It opens run.pvd beside this file at its last timestep, warps every block by `displacement`
 (the points are the reference positions, so scale 1 gives the deformed shape), shows each
-slave's `<body>/surface` coloured by `contact_pressure` (Pa) and each master translucent, and
-puts the camera on the contact: looking through the master at the pressure-weighted centre of
-the loaded surface nodes, along their mean outward normal.
+slave's `<body>/surface` coloured by `contact_pressure` and each master translucent, and puts
+the camera on the contact: looking through the master at the pressure-weighted centre of the
+loaded surface nodes, along their mean outward normal. The legend, in the lower right corner,
+gives the pressure in the unit that suits the frame (Pa, kPa, MPa or GPa; every label in one
+format) from 0 to its largest value; the upper left corner names the contact pairs and the
+frame: its load factor and iteration (ADR) or its time (s) and step (explicit).
+
+Offscreen, without a display, under a virtual X server that outlives pvpython's first client:
+
+    xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" pvpython view.py contact.png
 """
 import os
 import sys
@@ -20,6 +27,11 @@ import xml.etree.ElementTree as ET
 # pdcontact for this run.
 PAIRS = []
 DEFORMABLE = []
+
+# Size of the saved picture (pixels); the legend's and the caption's fonts are sized for it.
+RESOLUTION = [1600, 1000]
+# One format for every number on the legend, its range ends included.
+LABEL_FORMAT = "%.3g"
 
 try:
     HERE = os.path.dirname(os.path.abspath(__file__))
@@ -98,6 +110,57 @@ def focus(blocks, slaves):
     return centre, normal, radius, len(pts)
 
 
+def frame_info(blocks, slaves):
+    """The field data pdcontact writes into every dataset of a frame: {"load_factor",
+    "iteration"} (ADR) or {"time", "step"} (explicit); empty if the frame has none."""
+    names = [s + "/surface" for s in slaves] + sorted(blocks)
+    for name in names:
+        g = blocks.get(name)
+        if g is None:
+            continue
+        fd = g.GetFieldData()
+        info = {}
+        for key in ("load_factor", "iteration", "time", "step"):
+            a = fd.GetArray(key)
+            if a is not None and a.GetNumberOfTuples() > 0:
+                info[key] = a.GetTuple1(0)
+        if info:
+            return info
+    return {}
+
+
+def caption(slaves, info, timestep):
+    """The corner text: the bodies in contact, then what the frame is."""
+    pairs = [s + " on " + m for s, m in PAIRS]
+    bodies = ", ".join(pairs or slaves)
+    if "load_factor" in info:
+        when = "load factor %.4g" % info["load_factor"]
+        if "iteration" in info:
+            when += " (ADR iteration %d)" % info["iteration"]
+    elif "time" in info:
+        when = "t = %.4g s" % info["time"]
+        if "step" in info:
+            when += " (step %d)" % info["step"]
+    else:
+        when = "timestep %.4g" % timestep
+    return bodies + "\n" + when
+
+
+def pressure_scale(blocks, slaves):
+    """The largest contact pressure on the slaves' surfaces (Pa), and the unit to show it in:
+    (its size in Pa, its name), so that the largest value reads between 1 and 1000."""
+    pmax = 0.0
+    for s in slaves:
+        g = blocks.get(s + "/surface")
+        a = g.GetPointData().GetArray("contact_pressure") if g is not None else None
+        if a is not None and a.GetNumberOfTuples() > 0:
+            pmax = max(pmax, a.GetRange(0)[1])
+    for size, unit in ((1e9, "GPa"), (1e6, "MPa"), (1e3, "kPa")):
+        if pmax >= size:
+            return pmax, size, unit
+    return pmax, 1.0, "Pa"
+
+
 def camera(centre, normal, radius):
     """Position, focal point and view-up: on the master's side of the contact, along the normal."""
     dist = 8.0 * radius
@@ -114,14 +177,21 @@ def main(argv):
     slaves = sorted({s for s, _ in PAIRS}) or list(DEFORMABLE)
     masters = sorted({m for _, m in PAIRS} - set(slaves))
     vtm, t = last_frame()
-    centre, normal, radius, loaded = focus(read_blocks(vtm), slaves)
+    blocks = read_blocks(vtm)
+    centre, normal, radius, loaded = focus(blocks, slaves)
     position, focal, up = camera(centre, normal, radius)
+    text = caption(slaves, frame_info(blocks, slaves), t)
+    pmax, size, unit = pressure_scale(blocks, slaves)
+    if pmax == 0.0:
+        text += "\nno contact pressure in this frame"
+    title = "contact pressure (%s)" % unit
     if "--focus" in argv:
         import json
 
         print(json.dumps({"frame": os.path.basename(vtm), "timestep": t, "centre": centre,
                           "normal": normal, "radius": radius, "loaded": loaded,
-                          "position": position, "up": up, "slaves": slaves, "masters": masters}))
+                          "position": position, "up": up, "slaves": slaves, "masters": masters,
+                          "caption": text, "legend": title, "pressure_max": pmax}))
         return
     png = next((a for a in argv[1:] if not a.startswith("-")), None)
 
@@ -141,13 +211,41 @@ def main(argv):
         e.Selectors = ["/Root/" + path]
         return e
 
+    # The pressure in the legend's unit; its colour range from 0 to the frame's largest value.
+    shown = "contact_pressure" if size == 1.0 else "contact_pressure_" + unit
     for s in slaves:
-        d = pv.Show(block(s + "/surface"), view)
+        src = block(s + "/surface")
+        if size != 1.0:
+            src = pv.Calculator(Input=src)
+            src.AttributeType = "Point Data"
+            src.ResultArrayName = shown
+            src.Function = "contact_pressure/%r" % size
+        d = pv.Show(src, view)
         d.Representation = "Surface"
-        pv.ColorBy(d, ("POINTS", "contact_pressure"))
-        d.RescaleTransferFunctionToDataRange(True, False)
+        pv.ColorBy(d, ("POINTS", shown))
         d.SetScalarBarVisibility(view, True)
-        pv.GetScalarBar(pv.GetColorTransferFunction("contact_pressure"), view).Title = "contact_pressure (Pa)"
+    lut = pv.GetColorTransferFunction(shown)
+    lut.AutomaticRescaleRangeMode = "Never"
+    lut.RescaleTransferFunction(0.0, pmax / size if pmax > 0.0 else 1.0)
+    bar = pv.GetScalarBar(lut, view)
+    bar.Title = title
+    bar.ComponentTitle = ""
+    bar.HorizontalTitle = 1
+    bar.WindowLocation = "Lower Right Corner"
+    bar.ScalarBarLength = 0.3
+    bar.ScalarBarThickness = 16
+    bar.TitleFontSize = 18
+    bar.LabelFontSize = 16
+    bar.AutomaticLabelFormat = 0
+    bar.LabelFormat = LABEL_FORMAT
+    bar.AddRangeLabels = 1
+    bar.RangeLabelFormat = LABEL_FORMAT
+    bar.UseCustomLabels = 0
+    label = pv.Text(Text=text)
+    ld = pv.Show(label, view)
+    ld.WindowLocation = "Upper Left Corner"
+    ld.Justification = "Left"
+    ld.FontSize = 18
     for m in masters:
         d = pv.Show(block(m + "/surface" if m in DEFORMABLE else m), view)
         pv.ColorBy(d, None)
@@ -160,9 +258,12 @@ def main(argv):
     view.CameraFocalPoint = focal
     view.CameraViewUp = up
     view.OrientationAxesVisibility = 1
+    if png:
+        # Rendered at the picture's size: saved at another, ParaView scales the fonts with it.
+        view.ViewSize = RESOLUTION
     pv.Render(view)
     if png:
-        pv.SaveScreenshot(png, view, ImageResolution=[1600, 1000])
+        pv.SaveScreenshot(png, view, ImageResolution=RESOLUTION)
         print("saved " + png)
 
 
