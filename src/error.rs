@@ -1,6 +1,6 @@
 //! Errors of the PD pipeline and the exit codes they map to.
 //!
-//! Exit codes (documented in the README): 0 ok, 1 the run failed (numerical failure), 2 bad input
+//! Exit codes (documented in docs/guide/outputs.md): 0 ok, 1 the run failed (numerical failure), 2 bad input
 //! (a mesh, scene or option that cannot be used).
 
 use std::fmt;

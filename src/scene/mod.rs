@@ -1,8 +1,8 @@
 //! Scene files: bodies, loads, constraints, symmetry planes, contact pairs, solver, output.
 //!
 //! A scene is TOML. Unknown keys, wrong types and missing keys are errors with the file's line
-//! and column. Paths in a scene are relative to the scene file. The README documents every key
-//! with an example per feature ("Scene files").
+//! and column. Paths in a scene are relative to the scene file. docs/guide/scene.md documents
+//! every key with an example per feature (`tests/guide.rs` checks each against this schema).
 //!
 //! This module is the schema (the serde types) and the scene's messages (errors that point at
 //! a line of the file); `check.rs` holds every check of a scene's values and references that
