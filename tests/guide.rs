@@ -1,5 +1,6 @@
 //! The user guide cannot drift from the program: every scene key that docs/guide/scene.md
-//! shows (set or commented out as an alternative) is accepted by the scene parser.
+//! shows (set or commented out as an alternative) is accepted by the scene parser, and every
+//! option that a command's `--help` lists is in docs/guide/commands.md.
 
 use std::path::Path;
 
@@ -128,4 +129,41 @@ fn every_scene_key_in_the_guide_is_one_the_parser_accepts() {
             );
         }
     }
+}
+
+/// Every option that `pdcontact COMMAND --help` lists is in docs/guide/commands.md: an option
+/// added to the program without its line in the guide fails here.
+#[test]
+fn every_command_option_is_in_the_guide() {
+    let page = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/guide/commands.md"),
+    )
+    .expect("docs/guide/commands.md");
+    let mut checked = 0;
+    for command in [
+        "inspect", "convert", "run", "demo", "validate", "sweep", "bench",
+    ] {
+        assert!(
+            page.contains(&format!("## {command}")),
+            "commands.md has no section for {command}"
+        );
+        let help = std::process::Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+            .args([command, "--help"])
+            .output()
+            .expect("runs");
+        let help = String::from_utf8_lossy(&help.stdout);
+        for option in help
+            .split_whitespace()
+            .filter(|w| w.starts_with("--") && w.len() > 2)
+            .map(|w| w.trim_end_matches([',', '.', ')', ']', ':', ';', '`']))
+            .filter(|w| *w != "--help")
+        {
+            assert!(
+                page.contains(option),
+                "`pdcontact {command} --help` lists {option}, docs/guide/commands.md does not"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 30, "{checked} options checked");
 }
