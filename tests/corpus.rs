@@ -4,6 +4,8 @@
 //! `ok` files must reproduce the manifest exactly (bbox to 1e-9 relative); `error` files must
 //! fail with a located error; `ok_or_error` files may do either, but if read must match.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use pdcontact::importers::{read_path, Location, MeshSummary};
@@ -82,7 +84,7 @@ fn differences(got: &MeshSummary, want: &Value) -> Vec<String> {
 
 fn run_corpus(format: &str) {
     let Some(dir) = corpus_dir() else {
-        eprintln!("../shared/corpus not present: corpus test skipped");
+        common::skipped("corpus test", "../shared/corpus not present");
         return;
     };
     let manifest = manifest(&dir);
@@ -168,7 +170,7 @@ fn corpus_second_order_split_on_all_their_nodes() {
     use pdcontact::importers::{split_second_order, ElementKind, MISSING_NODE};
     use std::collections::{BTreeSet, HashMap};
     let Some(dir) = corpus_dir() else {
-        eprintln!("../shared/corpus not present: corpus test skipped");
+        common::skipped("corpus test", "../shared/corpus not present");
         return;
     };
     let manifest = manifest(&dir);
@@ -330,7 +332,7 @@ fn corpus_refined_once() {
     use pdcontact::importers::{boundary_faces, refine_uniform, ElementKind, Mesh, RefineRefusal};
     use std::collections::BTreeSet;
     let Some(dir) = corpus_dir() else {
-        eprintln!("../shared/corpus not present: corpus test skipped");
+        common::skipped("corpus test", "../shared/corpus not present");
         return;
     };
     let manifest = manifest(&dir);

@@ -1,6 +1,8 @@
 //! Runs that fail numerically, and a run stopped by SIGTERM, through the command line: exit
 //! codes, the one-line message, `summary.json`, and the frames left on disk.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -415,12 +417,7 @@ master = "floor"
     );
 
     // VTK's own reader loads every listed frame, when Python's vtk is there.
-    let has_vtk = Command::new("python3")
-        .args(["-c", "import vtk"])
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    if has_vtk {
+    if common::python_has("vtk") {
         let check = Command::new("python3")
             .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tools/check_vtk.py"))
             .arg("run")
@@ -434,7 +431,10 @@ master = "floor"
             String::from_utf8_lossy(&check.stderr)
         );
     } else {
-        eprintln!("python3 vtk not available: VTK reader check skipped");
+        common::skipped(
+            "VTK reader check",
+            "python3 with vtk not found (pip install vtk)",
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -159,12 +159,11 @@ fn view_focus(out: &Path) {
     let text = std::fs::read_to_string(&script).expect("view.py");
     assert!(text.contains("PAIRS = [(\"block\", \"floor\")]"), "{text}");
     assert!(text.contains("DEFORMABLE = [\"block\"]"), "{text}");
-    let has_vtk = Command::new("python3")
-        .args(["-c", "import vtk"])
-        .status()
-        .is_ok_and(|s| s.success());
-    if !has_vtk {
-        eprintln!("python3 with vtk not found: view.py --focus skipped");
+    if !common::python_has("vtk") {
+        common::skipped(
+            "view.py --focus",
+            "python3 with vtk not found (pip install vtk)",
+        );
         return;
     }
     let run = Command::new("python3")
@@ -235,12 +234,12 @@ fn view_py_renders_the_contact_in_paraview() {
             .output()
             .is_ok_and(|o| o.status.success())
     };
-    let vtk = Command::new("python3")
-        .args(["-c", "import vtk"])
-        .output()
-        .is_ok_and(|o| o.status.success());
+    let vtk = common::python_has("vtk");
     if !(found("pvpython") && found("xvfb-run") && vtk) {
-        eprintln!("skipped: pvpython, xvfb-run or python3's vtk not found, view.py not rendered");
+        common::skipped(
+            "view.py render",
+            "pvpython, xvfb-run or python3's vtk not found (apt-get install paraview python3-paraview xvfb)",
+        );
         return;
     }
     let dir = temp_dir("view");

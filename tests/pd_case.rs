@@ -1,5 +1,7 @@
 //! A mesh turned into a PD case, measured against geometry and continuum mechanics.
 
+mod common;
+
 use std::path::Path;
 
 use pdcontact::body::{Material, PdBody};
@@ -119,7 +121,7 @@ fn corrected_energy_density_under_uniaxial_strain() {
 fn surface_correction_is_bounded_where_it_cannot_balance() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus");
     if !dir.exists() {
-        eprintln!("../shared/corpus not present: test skipped");
+        common::skipped("corpus test", "../shared/corpus not present");
         return;
     }
     // One horizon: with a local one (the sector's node volumes spread over 2:1) the bond
