@@ -177,6 +177,25 @@ fn two_gmsh_tet_spheres_pressed_together_agree_with_hertz() {
         "{:?}",
         s.warnings
     );
+    // The run's own report on the pair: the contact ratio and the strain a body sees, not the
+    // pair's relative curvature (R* = R/2) and E* (half a body's), which would read twice as
+    // large; the same on the plane.
+    for (f, what) in [(&adr, "the pair"), (&rigid, "the plane")] {
+        let a = f.summary.accuracy.as_ref().expect("an accuracy check");
+        assert!(
+            (a.contact_ratio - 0.3).abs() < 0.01,
+            "{what}: a/R {}",
+            a.contact_ratio
+        );
+        assert!(
+            !f.summary
+                .warnings
+                .iter()
+                .any(|w| w.contains("strain") && !w.contains(" at 19 %")),
+            "{what}: {:?}",
+            f.summary.warnings
+        );
+    }
     assert_eq!(adr.bodies.len(), 2);
     // Measured: upper MRE 4.38 %, radius +1.73 %; lower 3.10 %, −1.56 %; on the rigid plane
     // 4.40 %, +1.74 %. At a/Δ ≈ 5 the mesh, not the second body, sets the error.

@@ -38,7 +38,7 @@ pub struct AccuracyCheck {
     pub peak: f64,
     /// `peak / estimated − 1`.
     pub peak_error: f64,
-    /// The estimate's `a/R` (`R` its radius of relative curvature): `validate --mesh
+    /// The estimate's `a/R`, `R` the slave's own radius of curvature: `validate --mesh
     /// --contact-ratio` at this value runs Hertz's test at the same contact size.
     pub contact_ratio: f64,
 }
@@ -58,7 +58,7 @@ impl AccuracyCheck {
         {
             return None;
         }
-        let estimated_peak = 3.0 * e.load / (2.0 * std::f64::consts::PI * e.radius * e.radius);
+        let estimated_peak = e.peak_pressure();
         Some(AccuracyCheck {
             pair: only.pair(),
             estimated_radius: e.radius,
@@ -67,7 +67,7 @@ impl AccuracyCheck {
             estimated_peak,
             peak,
             peak_error: peak / estimated_peak - 1.0,
-            contact_ratio: e.radius / e.curvature_radius(),
+            contact_ratio: e.radius * e.slave_curvature,
         })
     }
 

@@ -3,18 +3,18 @@
 //! MPa, a mesh in millimetres or a load in kilonewtons each move the Hertz estimate of a
 //! contact (METHOD.md §7) by orders of magnitude; the estimate is where the slip shows.
 
-use crate::body::Body;
-use crate::contact::estimate::{ContactResolution, ContactShape, HertzEstimate};
+use crate::body::{Body, Material};
+use crate::contact::estimate::{ContactResolution, HertzEstimate};
 use crate::model::Model;
 use crate::scene::{Scene, SolverKind};
 
 use super::checks::short;
 
-/// A strain `p0/E*` beyond this is no small-strain contact: a slip of units, or a load far
+/// A strain `p0 (1 − ν²)/E` beyond this is no small-strain contact: a slip of units, or a load far
 /// beyond what the body's stiffness carries.
 pub const STRAIN_LIMIT: f64 = 0.1;
 
-/// A strain `p0/E*` beyond this is no material's: the units slipped.
+/// A strain `p0 (1 − ν²)/E` beyond this is no material's: the units slipped.
 const UNIT_SLIP_STRAIN: f64 = 1.0;
 
 /// Below this Young's modulus (Pa) a solid is softer than any rubber: the likely slip is a
@@ -27,16 +27,10 @@ const LARGEST_PART: f64 = 100.0;
 /// Densities of solids in kg/m³, from foams to osmium: 7.85 (steel in g/cm³) falls below.
 const DENSITY_RANGE: (f64, f64) = (20.0, 3e4);
 
-/// The contact's strain `p0/E*`: Hertz's peak pressure over the contact modulus.
-fn strain(e: &HertzEstimate) -> f64 {
-    let p0 = match e.shape {
-        ContactShape::Point => 3.0 * e.load / (2.0 * std::f64::consts::PI * e.radius * e.radius),
-        ContactShape::Line => {
-            2.0 * e.load
-                / (e.line_length.unwrap_or(f64::INFINITY) * std::f64::consts::PI * e.radius)
-        }
-    };
-    p0 / e.e_star
+/// The slave's strain at the contact, `p0 (1 − ν²)/E`: Hertz's peak pressure over the slave's
+/// own modulus (`p0/E*` against a rigid master; half that where the master is as stiff).
+fn strain(e: &HertzEstimate, slave: &Material) -> f64 {
+    e.peak_pressure() * slave.compliance()
 }
 
 /// Warnings for contacts whose estimate puts the contact beyond the body's size or its strain
@@ -62,7 +56,7 @@ pub(super) fn scale_warnings(
             continue;
         };
         let size = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
-        let eps = strain(e);
+        let eps = strain(e, &pd.material);
         let too_wide = e.radius > 0.5 * size;
         if !(too_wide || eps > STRAIN_LIMIT) {
             continue;
@@ -76,11 +70,11 @@ pub(super) fn scale_warnings(
             )
         } else {
             format!(
-                "the Hertz estimate puts the contact's strain p0/E* at {:.0} % (contact {} {} m, curvature radius {} m)",
+                "the Hertz estimate puts the contact's strain p0 (1 − ν²)/E at {:.0} % (contact {} {} m, curvature radius {} m)",
                 100.0 * eps,
                 e.what(),
                 short(e.radius),
-                short(e.curvature_radius())
+                short(1.0 / e.slave_curvature)
             )
         };
         let youngs = pd.material.youngs;

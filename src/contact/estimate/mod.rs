@@ -209,6 +209,9 @@ pub struct HertzEstimate {
     pub e_star: f64,
     /// Principal relative curvatures `κ₁ ≥ κ₂`, 1/m.
     pub curvatures: [f64; 2],
+    /// The slave's own largest principal curvature there, 1/m (`κ₁` less the master's): the
+    /// body's `a/R` is `radius` times it, what `validate --mesh --contact-ratio` takes.
+    pub slave_curvature: f64,
     pub shape: ContactShape,
     /// Line contacts: the length `L` that carries the load (`P′ = P/L`), m.
     pub line_length: Option<f64>,
@@ -461,6 +464,22 @@ impl HertzEstimate {
         }
     }
 
+    /// Hertz's peak pressure (METHOD.md §7) with the contact taken as circular of radius `a`
+    /// (`3P/(2πa²)`) or, across a line, `2P′/(πb)`, Pa.
+    pub fn peak_pressure(&self) -> f64 {
+        match self.shape {
+            ContactShape::Point => {
+                3.0 * self.load / (2.0 * std::f64::consts::PI * self.radius * self.radius)
+            }
+            ContactShape::Line => {
+                2.0 * self.load
+                    / (self.line_length.unwrap_or(f64::INFINITY)
+                        * std::f64::consts::PI
+                        * self.radius)
+            }
+        }
+    }
+
     /// The smallest principal radius of relative curvature `1/κ₁`, m.
     pub fn curvature_radius(&self) -> f64 {
         1.0 / self.curvatures[0]
@@ -570,6 +589,7 @@ fn estimate(slave: &ContactSurface, master: &ContactSurface) -> Option<(HertzEst
         .map_or([0.0; 3], |f| f.0);
     let h = [hs[0] + hm[0], hs[1] + hm[1], hs[2] + hm[2]];
     let (k1, k2, across) = principal(h, e1, e2);
+    let slave_curvature = principal(hs, e1, e2).0;
     let size = extent(slave.points, &slave_nodes);
     if !(k1 * size > 1e-3) || k2 < -LINE_RATIO * k1 {
         return None;
@@ -599,6 +619,7 @@ fn estimate(slave: &ContactSurface, master: &ContactSurface) -> Option<(HertzEst
         load,
         e_star,
         curvatures: [k1, k2],
+        slave_curvature,
         shape,
         line_length,
         radius,
@@ -628,6 +649,7 @@ mod tests {
             load: 1.0,
             e_star: 1.0,
             curvatures: [1.0, 1.0],
+            slave_curvature: 1.0,
             shape: ContactShape::Point,
             line_length: None,
             radius: 0.1,
