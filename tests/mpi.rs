@@ -310,3 +310,27 @@ fn static_solver_refuses_to_run_on_ranks() {
         "{stderr}"
     );
 }
+
+/// An LPS body is not decomposed over ranks yet (each rank would need its partners'
+/// dilatations): under `mpirun` the run refuses before it solves, naming the body and why.
+#[test]
+fn lps_refuses_to_run_on_ranks() {
+    let dir = temp_dir("lps");
+    write_demo(&dir);
+    let scene = std::fs::read_to_string(dir.join("scene.toml")).expect("scene");
+    assert!(scene.contains("poisson_ratio = 0.25"), "{scene}");
+    let scene = scene.replacen(
+        "poisson_ratio = 0.25",
+        "poisson_ratio = 0.3\nmodel = \"lps\"",
+        1,
+    );
+    let path = dir.join("lps.toml");
+    std::fs::write(&path, scene).expect("written");
+    let out = on_ranks(2, &dir.join("many"), &path);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("model = \"lps\"") && stderr.contains("one process"),
+        "{stderr}"
+    );
+}

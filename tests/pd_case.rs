@@ -8,6 +8,7 @@ use pdcontact::body::{Material, PdBody};
 use pdcontact::case::{CaseOptions, HorizonKind, PdCase, SecondOrder};
 use pdcontact::importers::read_path;
 use pdcontact::math::Vec3;
+use pdcontact::scene::MaterialModel;
 
 fn sphere_case(file: &str) -> PdCase {
     let mesh =
@@ -89,6 +90,7 @@ fn corrected_energy_density_under_uniaxial_strain() {
             youngs,
             poisson: 0.25,
             density: 1000.0,
+            model: MaterialModel::BondBased,
         },
     );
     let eps = 1e-4;

@@ -197,7 +197,7 @@ fn two_gmsh_tet_spheres_pressed_together_agree_with_hertz() {
         );
     }
     assert_eq!(adr.bodies.len(), 2);
-    // Measured: upper MRE 4.38 %, radius +1.73 %; lower 3.10 %, −1.56 %; on the rigid plane
+    // Measured: upper MRE 4.29 %, radius +1.72 %; lower 2.75 %, −0.54 %; on the rigid plane
     // 4.40 %, +1.74 %. At a/Δ ≈ 5 the mesh, not the second body, sets the error.
     for (k, &(mre, radius, force)) in adr.bodies.iter().enumerate() {
         assert!(mre < 0.05, "body {k}: MRE {mre}");

@@ -663,8 +663,9 @@ fn contact_ratio_sets_the_load() {
 /// `--partner copy`: the stored gmsh tet sphere (h = 0.07 m) pressed on a copy of itself turned
 /// half a turn about a line through the contact point, two deformable bodies meshed alike,
 /// against Hertz for two identical spheres (the same contact radius as on a rigid plane under
-/// the same load). Measured: both bodies MRE 2.68 %, radius −1.60 %, peak +2.9 % in 1,357 ADR
-/// iterations; on the rigid plane 2.68 %, −1.66 %, +3.0 % in 1,187.
+/// the same load). Measured: both bodies MRE 2.43 %, radius −1.45 %, peak +2.1 % in 1,357 ADR
+/// iterations; on the rigid plane 2.68 %, −1.66 %, +3.0 % in 1,187 (the pair's peak nearer
+/// Hertz's since each body's master reactions are read over their tributary areas).
 #[test]
 fn a_mesh_pressed_on_its_copy() {
     let mesh = repo("meshes/sphere_tet4_h007.msh");
@@ -689,9 +690,13 @@ fn a_mesh_pressed_on_its_copy() {
         assert!(f(r, "radius_error").abs() < 0.03, "{r}");
         assert!(f(r, "force_balance_error") < 1e-3, "{r}");
         assert!(f(r, "iterations") <= 2.0 * f(on_plane, "iterations"), "{r}");
-        for k in ["mre", "radius_error", "peak_error"] {
+        for (k, within) in [
+            ("mre", 0.005),
+            ("radius_error", 0.005),
+            ("peak_error", 0.01),
+        ] {
             assert!(
-                (f(r, k) - f(on_plane, k)).abs() < 0.005,
+                (f(r, k) - f(on_plane, k)).abs() < within,
                 "{k}: {r} against {on_plane}"
             );
         }

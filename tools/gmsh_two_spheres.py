@@ -86,8 +86,10 @@ def sphere_part(path, r, cz, eighth, h, order, hexes):
     gmsh.model.mesh.generate(3)
     if order == 2:
         gmsh.model.mesh.setOrder(2)
+    n = len(gmsh.model.mesh.getNodes(3, -1, True, False)[0])
     gmsh.write(path)
     gmsh.finalize()
+    return n
 
 
 def main():

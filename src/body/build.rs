@@ -378,6 +378,7 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                     youngs: m.youngs_modulus,
                     poisson: m.poisson_ratio,
                     density: m.density,
+                    model: m.model,
                 },
             );
             body.kinematics = spec.kinematics;
@@ -406,6 +407,7 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                     youngs: m.youngs_modulus,
                     poisson: m.poisson_ratio,
                     density: m.density,
+                    model: m.model,
                 }),
                 motion: spec.motion,
                 velocity: Vec3::from(spec.motion_velocity.unwrap_or([0.0; 3])),

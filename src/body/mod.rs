@@ -10,15 +10,17 @@
 //! This module holds the body types; `build.rs` builds them from a scene ([`build_body`]).
 
 mod build;
+pub mod lps;
 
 pub use build::{body_mesh, build_body, clip_mesh};
+pub use lps::Lps;
 
 use crate::case::correction::micromodulus;
 use crate::case::pairs::{ForceBuffers, PairList};
 use crate::case::segments::MasterSegment;
 use crate::case::PdCase;
 use crate::math::Vec3;
-use crate::scene::{Kinematics, Motion};
+use crate::scene::{Kinematics, MaterialModel, Motion};
 
 /// Linear elastic material.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,6 +28,8 @@ pub struct Material {
     pub youngs: f64,
     pub poisson: f64,
     pub density: f64,
+    /// Bond-based or the linear peridynamic solid.
+    pub model: MaterialModel,
 }
 
 impl Material {
@@ -56,8 +60,12 @@ pub struct PdBody {
     pub reference: Vec<Vec3>,
     /// Micromodulus `c`.
     pub micromodulus: f64,
-    /// Per directed bond: `c G v_c V_i V_j / L`, N/m.
+    /// Per directed bond: `c G v_c V_i V_j / L`, N/m; for an LPS body the stiffness that
+    /// bounds its tangent's row ([`Lps::bond_stiffness`]), which sizes the solvers' steps.
     pub bond_weight: Vec<f32>,
+    /// The linear peridynamic solid's data where the material is `model = "lps"`: its
+    /// forces replace the bond-based pass over `pairs`.
+    pub lps: Option<Lps>,
     /// Per particle: `Σ_j w_ij`, the sum of its bond stiffnesses (N/m).
     pub stiffness: Vec<f64>,
     /// The bonds each pair once, with their weights: what the force pass walks.
@@ -80,6 +88,11 @@ pub struct PdBody {
     pub force: Vec<Vec3>,
     /// Contact force alone, N.
     pub contact_force: Vec<Vec3>,
+    /// The part of `contact_force` this body takes as a deformable master: the reactions of
+    /// other bodies' slaves spread on its nodes by the segments' shape functions (Eq. 20's
+    /// weights), which lump a traction by tributary area, where a slave's own force goes by
+    /// volume ([`PdBody::pressure_force`]).
+    pub reaction_force: Vec<Vec3>,
     /// Extra stiffness from contact, for ADR's fictitious density (N/m): the tangent of each
     /// contact at its penetration ([`crate::contact::ContactLaw::relaxation_stiffness`]).
     pub contact_stiffness: Vec<f64>,
@@ -89,6 +102,25 @@ pub struct PdBody {
 }
 
 impl PdBody {
+    /// The normal contact force of particle `i` as its pressure area `A*_i` carries it
+    /// ([`pressure_areas`](crate::case::segments::pressure_areas)): a slave's own force, taken
+    /// by volume, as it is; a master's reactions, which Eq. 20's shape functions lump by the
+    /// tributary area `A_i` (`F_a = ∫ N_a p dA ≈ p A_a`), scaled by `A*_i / A_i`, so that
+    /// `pressure_force / A*_i` is the traction on either side of a pair.
+    pub fn pressure_force(&self, i: usize) -> f64 {
+        let reaction = self.reaction_force[i];
+        if reaction == Vec3::zeros() {
+            return self.contact_force[i].norm();
+        }
+        let tributary = self.case.segments.tributary_area[i];
+        let scale = if tributary > 0.0 {
+            self.case.segments.pressure_area[i] / tributary
+        } else {
+            1.0
+        };
+        (self.contact_force[i] - reaction + reaction * scale).norm()
+    }
+
     /// Number of particles.
     pub fn len(&self) -> usize {
         self.u.len()
@@ -124,11 +156,26 @@ impl PdBody {
         let bonds = &case.bonds;
         let mut bond_weight = Vec::with_capacity(bonds.len());
         let mut stiffness = vec![0.0; n];
+        let lps = (material.model == MaterialModel::Lps).then(|| {
+            let mut lps = Lps::new(&case, material.youngs, material.poisson);
+            // `skin_correction` (on by default) asks for the LPS's own ([`lps::skin_factors`]).
+            if case.skin.is_some() {
+                let (factor, normal) = lps::skin_factors(&lps, &case);
+                lps.set_skin(&case, &factor, &normal);
+            }
+            lps
+        });
+        let lps_stiffness = lps.as_ref().map(|l| l.bond_stiffness(&case));
         for i in 0..n {
             for b in bonds.range(i) {
                 let j = bonds.partner[b] as usize;
-                let w =
-                    c * case.correction.bond_factor[b] * vol[i] * partner_vol[j] / bonds.length(b);
+                let w = match &lps_stiffness {
+                    Some(k) => k[b],
+                    None => {
+                        c * case.correction.bond_factor[b] * vol[i] * partner_vol[j]
+                            / bonds.length(b)
+                    }
+                };
                 bond_weight.push(w as f32);
                 stiffness[i] += w;
             }
@@ -161,6 +208,7 @@ impl PdBody {
             v: vec![Vec3::zeros(); n],
             force: vec![Vec3::zeros(); n],
             contact_force: vec![Vec3::zeros(); n],
+            reaction_force: vec![Vec3::zeros(); n],
             contact_stiffness: vec![0.0; n],
             owned: 0..n,
             pairs: PairList::from_bonds(
@@ -171,9 +219,18 @@ impl PdBody {
             ),
             force_buffers: ForceBuffers::default(),
             bond_weight,
+            lps,
             stiffness,
             case,
             material,
+        }
+    }
+
+    /// How the LPS pass stretches this body's bonds.
+    pub fn stretch(&self) -> lps::Stretch<'_> {
+        match self.kinematics {
+            Kinematics::Small => lps::Stretch::Small(&self.reference),
+            Kinematics::Finite => lps::Stretch::Finite,
         }
     }
 
@@ -193,6 +250,9 @@ impl PdBody {
     /// mirrored pair that belongs to this model), at the positions `pos`
     /// ([`extended_positions`](Self::extended_positions)).
     pub fn strain_energy_of(&self, i: usize, pos: &[Vec3]) -> f64 {
+        if let Some(lps) = &self.lps {
+            return lps.strain_energy_of(&self.case, i, pos, self.stretch());
+        }
         let bonds = &self.case.bonds;
         let yi = pos[i];
         bonds

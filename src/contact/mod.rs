@@ -491,6 +491,7 @@ impl ContactPass {
                     let n = n as usize;
                     mb.force[n] += f;
                     mb.contact_force[n] += f;
+                    mb.reaction_force[n] += f;
                     mb.contact_stiffness[n] += k;
                 }
             }

@@ -28,9 +28,9 @@ use crate::contact::ContactPass;
 use crate::math::Vec3;
 use crate::parallel::{owner, split_by_cost, Comm, Ghosts};
 
-/// Values per particle that [`Domain::gather`] moves: `u`, `v`, force, contact force (3
-/// each) and the contact stiffness.
-const STATE: usize = 13;
+/// Values per particle that [`Domain::gather`] moves: `u`, `v`, force, contact force, the
+/// master's reactions among it (3 each) and the contact stiffness.
+const STATE: usize = 16;
 
 /// How a run was decomposed (`summary.json`'s `decomposition`).
 #[derive(Clone, Debug, serde::Serialize)]
@@ -232,6 +232,7 @@ impl Domain {
                     let (n, f) = (r[0] as usize, Vec3::new(r[1], r[2], r[3]));
                     mb.force[n] += f;
                     mb.contact_force[n] += f;
+                    mb.reaction_force[n] += f;
                     mb.contact_stiffness[n] += r[4];
                 }
                 at[q] += 5 * count;
@@ -401,6 +402,7 @@ impl Domain {
                 mine.extend(pd.v[i].iter());
                 mine.extend(pd.force[i].iter());
                 mine.extend(pd.contact_force[i].iter());
+                mine.extend(pd.reaction_force[i].iter());
                 mine.push(pd.contact_stiffness[i]);
             }
         }
@@ -416,7 +418,8 @@ impl Domain {
                     pd.v[i] = v3(3);
                     pd.force[i] = v3(6);
                     pd.contact_force[i] = v3(9);
-                    pd.contact_stiffness[i] = s[12];
+                    pd.reaction_force[i] = v3(12);
+                    pd.contact_stiffness[i] = s[15];
                 }
             }
         }

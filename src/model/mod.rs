@@ -11,6 +11,7 @@ use rayon::prelude::*;
 
 use self::domain::Domain;
 
+use crate::body::lps::Stretch;
 use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
 use crate::case::pairs::{pair_forces, PairKinematics};
 use crate::contact::estimate::{resolve, ContactResolution, ContactSurface};
@@ -187,6 +188,20 @@ impl Model {
     /// Decomposes the model over the ranks of `comm` ([`domain`]): from here on this process
     /// evaluates and moves its own particles. Collective.
     pub fn distribute(&mut self, comm: Arc<dyn Comm>) -> Result<()> {
+        // The LPS state needs each partner's dilatation, which the ranks do not exchange.
+        if let Some(pd) = self
+            .bodies
+            .iter()
+            .filter_map(|b| b.as_pd())
+            .find(|pd| pd.lps.is_some())
+        {
+            if comm.size() > 1 {
+                return Err(crate::error::Error::Input(format!(
+                    "body \"{}\": model = \"lps\" does not run over several MPI ranks yet (each rank would need its partners' dilatations); run it in one process, whose threads give the same bits",
+                    pd.name
+                )));
+            }
+        }
         let domain = Domain::new(&self.bodies, &self.passes, &self.short_range, comm);
         let rank = domain.rank();
         for (k, body) in self.bodies.iter_mut().enumerate() {
@@ -415,15 +430,29 @@ pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
         Kinematics::Finite => PairKinematics::Finite,
     };
     let load = &pd.load;
-    pair_forces(
-        &pd.pairs,
-        pos,
-        kinematics,
-        &mut pd.force_buffers,
-        &mut pd.force,
-        |i, f, out| *out = f + load[i],
-    );
+    match &mut pd.lps {
+        Some(lps) => {
+            let stretch = match pd.kinematics {
+                Kinematics::Small => Stretch::Small(&pd.reference),
+                Kinematics::Finite => Stretch::Finite,
+            };
+            lps.forces(&pd.case, pos, stretch, &mut pd.force, |i, f, out| {
+                *out = f + load[i]
+            });
+        }
+        None => pair_forces(
+            &pd.pairs,
+            pos,
+            kinematics,
+            &mut pd.force_buffers,
+            &mut pd.force,
+            |i, f, out| *out = f + load[i],
+        ),
+    }
     pd.contact_force.iter_mut().for_each(|f| *f = Vec3::zeros());
+    pd.reaction_force
+        .iter_mut()
+        .for_each(|f| *f = Vec3::zeros());
     pd.contact_stiffness.iter_mut().for_each(|k| *k = 0.0);
 }
 

@@ -40,10 +40,11 @@ pub fn particle_pressure(model: &Model, body: usize) -> Vec<f64> {
     }
 }
 
-/// The magnitude of each particle's contact force. The penalty force acts along the master
-/// segment's normal, so this is the normal contact force; frictionless contact has no other.
+/// The magnitude of each particle's contact force as its pressure area carries it
+/// ([`PdBody::pressure_force`]). The penalty force acts along the master segment's normal, so
+/// this is the normal contact force; frictionless contact has no other.
 pub fn normal_forces(pd: &PdBody) -> Vec<f64> {
-    pd.contact_force.iter().map(|f| f.norm()).collect()
+    (0..pd.len()).map(|i| pd.pressure_force(i)).collect()
 }
 
 /// Runs `query` on body `pd`'s surface with the normal contact forces `force` (one per
@@ -120,16 +121,29 @@ pub fn contact_patch(model: &Model, body: usize, strip_axis: Option<Vec3>) -> Op
     if !(total > 0.0) || !(force.norm() > 0.0) {
         return None;
     }
-    let direction = force.normalize();
     let x = &pd.case.particles.position;
     let mut centre = Vec3::zeros();
     for i in 0..pd.len() {
         centre += x[i] * (p[i] * pd.case.segments.pressure_area[i] / total);
     }
-    // In a symmetric model the whole contact's centre lies on the symmetry planes.
-    for plane in &pd.case.ghosts.planes {
-        centre[plane.axis] = plane.at;
+    // A symmetry plane through the contact (a loaded particle on it) holds the whole
+    // contact's centre, and the force of the whole body has no component across it: the
+    // part's own force leans off the axis by the lateral forces its mirror images would
+    // cancel (5° on a quarter gmsh sphere pressed on a block). A plane the contact does not
+    // reach (a sphere's equator, a block's bottom) says neither.
+    let mut direction = force;
+    let ghosts = &pd.case.ghosts;
+    for (k, plane) in ghosts.planes.iter().enumerate() {
+        let through = (0..pd.len())
+            .any(|i| p[i] > 0.0 && ghosts.on_plane.get(i).is_some_and(|m| m & (1 << k) != 0));
+        if through {
+            centre[plane.axis] = plane.at;
+            direction[plane.axis] = 0.0;
+        }
     }
+    let direction = direction
+        .try_normalize(0.0)
+        .unwrap_or_else(|| force.normalize());
     let radial = |y: Vec3| {
         let d = y - centre;
         let mut inplane = d - direction * d.dot(&direction);

@@ -261,9 +261,8 @@ impl FrameWriter {
                             let boundary: Vec<usize> = (0..n)
                                 .filter(|&i| pd.case.segments.pressure_area[i] > 0.0)
                                 .collect();
-                            let got = d.collect(k, &boundary, 1, |i, out| {
-                                out.push(pd.contact_force[i].norm())
-                            });
+                            let got =
+                                d.collect(k, &boundary, 1, |i, out| out.push(pd.pressure_force(i)));
                             let mut f = vec![0.0; n];
                             for (&i, v) in boundary.iter().zip(got) {
                                 f[i] = v;

@@ -4,8 +4,8 @@
 use pdcontact_importers::Format;
 
 use super::{
-    excerpt, locate, locate_in_body, num, BodyKind, BodySpec, ContactMethod, GeneratorSpec, Motion,
-    Scene, SolverKind,
+    excerpt, locate, locate_in_body, num, BodyKind, BodySpec, ContactMethod, GeneratorSpec,
+    MaterialModel, Motion, Scene, SolverKind, LPS_MAX_POISSON,
 };
 use crate::case::DEFAULT_HORIZON_FACTOR;
 use crate::error::{Error, Result};
@@ -79,14 +79,34 @@ impl Scene {
                         ));
                     }
                 }
-                if (m.poisson_ratio - 0.25).abs() > 1e-9 {
-                    return Err(err(
-                        "poisson_ratio",
-                        format!(
-                            "body \"{}\": bond-based peridynamics fixes Poisson's ratio at 0.25, got {} (use 0.25)",
-                            b.name, num(m.poisson_ratio)
-                        ),
-                    ));
+                match m.model {
+                    MaterialModel::BondBased if (m.poisson_ratio - 0.25).abs() > 1e-9 => {
+                        return Err(err(
+                            "poisson_ratio",
+                            format!(
+                                "body \"{}\": bond-based peridynamics fixes Poisson's ratio at 0.25, got {} (use 0.25, or model = \"lps\" in [body.material] for any ratio)",
+                                b.name, num(m.poisson_ratio)
+                            ),
+                        ));
+                    }
+                    MaterialModel::Lps
+                        if !(m.poisson_ratio > -1.0 && m.poisson_ratio <= LPS_MAX_POISSON) =>
+                    {
+                        return Err(err(
+                            "poisson_ratio",
+                            format!(
+                                "body \"{}\": the linear peridynamic solid takes Poisson's ratio in (-1, {LPS_MAX_POISSON}], got {}{}",
+                                b.name,
+                                num(m.poisson_ratio),
+                                if m.poisson_ratio > LPS_MAX_POISSON && m.poisson_ratio < 1.0 {
+                                    " (nearer 0.5 the bulk modulus outgrows the shear modulus so far that the dilatation locks the solution; a nearly incompressible material needs a mixed formulation this program does not have)"
+                                } else {
+                                    ""
+                                }
+                            ),
+                        ));
+                    }
+                    _ => {}
                 }
             }
             if let Some(m) = &b.material {

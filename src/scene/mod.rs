@@ -285,10 +285,28 @@ pub struct RotateSpec {
 pub struct MaterialSpec {
     /// E, Pa.
     pub youngs_modulus: f64,
-    /// ν; bond-based PD fixes 1/4.
+    /// ν; bond-based PD fixes 1/4, the linear peridynamic solid takes any in its range.
     pub poisson_ratio: f64,
     /// ρ, kg/m³.
     pub density: f64,
+    /// The PD material model (bond-based by default).
+    #[serde(default)]
+    pub model: MaterialModel,
+}
+
+/// The largest Poisson's ratio the linear peridynamic solid takes (docs/VALIDATION.md, "Any
+/// Poisson's ratio": where the uniaxial bar still gives E and ν within 2 %).
+pub const LPS_MAX_POISSON: f64 = 0.49;
+
+/// `model` of `[body.material]`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum MaterialModel {
+    /// Bond-based PD (the paper's, METHOD.md §2): pairwise bonds, ν = 1/4.
+    #[default]
+    BondBased,
+    /// The linear peridynamic solid (ordinary state-based, METHOD.md §8): any ν.
+    Lps,
 }
 
 /// `[[load]]`: a total force on a body.
@@ -690,6 +708,17 @@ master = "plane"
     fn semantic_errors_name_the_place() {
         let e = error_of(&GOOD.replace("poisson_ratio = 0.25", "poisson_ratio = 0.3"));
         assert!(e.contains("scene.toml:10:1") && e.contains("0.25"), "{e}");
+        assert!(e.contains("model = \"lps\""), "{e}");
+        // The LPS takes 0.3, and refuses what it cannot hold, saying why.
+        let lps = GOOD.replace(
+            "poisson_ratio = 0.25",
+            "poisson_ratio = 0.3\nmodel = \"lps\"",
+        );
+        Scene::parse(&lps, "scene.toml", Path::new(".")).expect("LPS at 0.3");
+        let e = error_of(&lps.replace("poisson_ratio = 0.3", "poisson_ratio = 0.495"));
+        assert!(e.contains("(-1, 0.49]") && e.contains("locks"), "{e}");
+        let e = error_of(&lps.replace("poisson_ratio = 0.3", "poisson_ratio = -1.0"));
+        assert!(e.contains("(-1, 0.49]"), "{e}");
         let e = error_of(&GOOD.replace("youngs_modulus = 1e9", "youngs_modulus = -1e9"));
         assert!(
             e.contains("scene.toml:9:1") && e.contains("positive"),
