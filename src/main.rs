@@ -140,6 +140,11 @@ enum Command {
         /// identical spheres, one row per body; docs/VALIDATION.md, "Two deformable bodies").
         #[arg(long, value_enum, default_value_t = PartnerArg::Plane, requires = "mesh")]
         partner: PartnerArg,
+        /// With --mesh: the body's Poisson's ratio, in the linear peridynamic solid
+        /// (`model = "lps"`, any ν up to 0.49; Hertz's E* with it). Without it the bond-based
+        /// model at ν = 0.25 (docs/VALIDATION.md, "Any Poisson's ratio").
+        #[arg(long, value_name = "NU", requires = "mesh")]
+        poisson: Option<f64>,
         /// Output folder (one subfolder per run).
         #[arg(short, long, default_value = "pdcontact-validate")]
         output: PathBuf,
@@ -452,6 +457,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             skin_correction,
             solver,
             partner,
+            poisson,
             output,
             json,
             quiet,
@@ -483,6 +489,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                         refine: refine.unwrap_or(0),
                         skin_correction,
                         static_solver,
+                        poisson,
                         partner: match partner {
                             PartnerArg::Plane => pdcontact::studies::user_mesh::Partner::Plane,
                             PartnerArg::Copy => pdcontact::studies::user_mesh::Partner::Copy,

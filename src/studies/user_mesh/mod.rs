@@ -166,6 +166,9 @@ pub struct BodyChoices {
     pub skin_correction: bool,
     /// Solve with the static solver (`kind = "static"`) instead of ADR.
     pub static_solver: bool,
+    /// Poisson's ratio of a linear peridynamic solid (`model = "lps"`); `None`: the
+    /// bond-based model at ν = 1/4.
+    pub poisson: Option<f64>,
     /// What the body is pressed on: a rigid plane, or a copy of itself.
     pub partner: Partner,
     /// Where the contact spans fewer than [`MIN_CONTACT_SPACINGS`] spacings, also run the body
@@ -183,6 +186,7 @@ impl Default for BodyChoices {
             refine: 0,
             skin_correction: true,
             static_solver: false,
+            poisson: None,
             partner: Partner::Plane,
             compare: false,
         }
@@ -238,7 +242,8 @@ pub fn mesh_case(
     let horizon_factor = body.horizon_factor;
     let radius = shape.radius;
     let a = ratio * radius;
-    let e_star = e_star_rigid(YOUNGS, POISSON);
+    let poisson = body.poisson.unwrap_or(POISSON);
+    let e_star = e_star_rigid(YOUNGS, poisson);
     let mut unit = [0.0; 3];
     unit[shape.press] = 1.0;
     let mut point = shape.centre;
@@ -312,6 +317,11 @@ pub fn mesh_case(
     } else {
         "skin_correction = false         # the balanced correction alone: a softer surface row (docs/VALIDATION.md)\n"
     };
+    let model_line = if body.poisson.is_some() {
+        "model = \"lps\"               # the linear peridynamic solid: any Poisson's ratio\n"
+    } else {
+        ""
+    };
     let load_note = match problem {
         Problem::Roller => format!("P = {} N/m over the length", num(load)),
         _ => format!("P = {} N", num(load)),
@@ -333,8 +343,8 @@ mesh = {quoted}
 {format_line}{horizon_line}{second_order_line}{refine_line}{skin_line}kinematics = "small"         # Hertz theory is small-strain: compare like with like
 [body.material]
 youngs_modulus = {e:e}
-poisson_ratio = {POISSON}
-density = {density}
+poisson_ratio = {poisson}
+{model_line}density = {density}
 
 [[body]]
 name = "plane"
