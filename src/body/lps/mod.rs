@@ -56,6 +56,10 @@ pub struct Lps {
     /// Per real particle: `D_i = Σ_j ω s_i e^d |ξ| v_c V_j / 3` of the last pass, which the
     /// skin's weights make nonzero (scratch).
     deviation: Vec<f64>,
+    /// Per real particle: the force state's constants of the last pass (scratch).
+    state: Vec<[f64; 3]>,
+    /// Per directed bond: its extension in the last pass (scratch).
+    extension: Vec<f64>,
 }
 
 /// How the bonds stretch in a pass.
@@ -106,6 +110,8 @@ impl Lps {
             skin_moment: Vec::new(),
             dilatation: vec![0.0; n],
             deviation: vec![0.0; n],
+            state: vec![[0.0; 3]; n],
+            extension: Vec::new(),
         };
         lps.correction = surface_factors(&lps, case, youngs, poisson);
         lps
@@ -212,17 +218,21 @@ impl Lps {
         let (bv, m) = (&self.bond_volume, &self.weighted_volume);
         let (s_own, s_partner, ms) = (&self.skin_own, &self.skin_partner, &self.skin_moment);
         let skin = !s_own.is_empty();
-        self.dilatation
-            .par_chunks_mut(CHUNK)
+        // Each bond's extension, kept for the second pass.
+        self.extension.resize(bonds.len(), 0.0);
+        bonds
+            .blocks(&mut self.extension, CHUNK)
+            .into_par_iter()
+            .zip(self.dilatation.par_chunks_mut(CHUNK))
             .zip(self.deviation.par_chunks_mut(CHUNK))
-            .enumerate()
-            .for_each(|(c, (theta, dev))| {
-                for (k, (t, d)) in theta.iter_mut().zip(dev.iter_mut()).enumerate() {
-                    let i = c * CHUNK + k;
+            .for_each(|(((range, ext), theta), dev)| {
+                let first = bonds.offsets[range.start];
+                for ((i, t), d) in range.zip(theta.iter_mut()).zip(dev.iter_mut()) {
                     let (mut sum, mut skinned) = (0.0, 0.0);
                     for b in bonds.range(i) {
                         let l = bonds.length(b);
                         let (e, _) = bond(i, bonds.partner[b] as usize, l);
+                        ext[b - first] = e;
                         sum += bv[b] * l * e;
                         if skin {
                             skinned += bv[b] * s_own[b] * l * e;
@@ -237,7 +247,31 @@ impl Lps {
                     };
                 }
             });
+        // t_i<ξ> = g_i ((3|ξ|/m_i)(kθ_i − 15μ D_i/m_i) + (15μ/m_i) s (e − θ_i|ξ|/3)), which
+        // is ((3k − 5μ)θ|ξ| + 15μ e)/m where s = 1: per particle `t = a|ξ| + b s (e − c|ξ|)`,
+        // its three constants computed once a pass rather than at each of its bonds.
+        let (k, mu) = (self.bulk, self.shear);
+        let g = &self.correction;
         let (theta, deviation) = (&self.dilatation, &self.deviation);
+        self.state
+            .par_chunks_mut(CHUNK)
+            .enumerate()
+            .for_each(|(c, state)| {
+                for (q, t) in state.iter_mut().enumerate() {
+                    let i = c * CHUNK + q;
+                    let mi = m[i];
+                    *t = if mi > 0.0 {
+                        [
+                            g[i] * 3.0 / mi * (k * theta[i] - 15.0 * mu * deviation[i] / mi),
+                            g[i] * 15.0 * mu / mi,
+                            theta[i] / 3.0,
+                        ]
+                    } else {
+                        [0.0; 3]
+                    };
+                }
+            });
+        let (state, extension) = (&self.state, &self.extension);
         let source = |j: usize| {
             if j < n {
                 j
@@ -245,34 +279,25 @@ impl Lps {
                 case.ghosts.source[j - n] as usize
             }
         };
-        let (k, mu) = (self.bulk, self.shear);
-        let g = &self.correction;
-        // t_i<ξ> = g_i ((3|ξ|/m_i)(kθ_i − 15μ D_i/m_i) + (15μ/m_i) s (e − θ_i|ξ|/3)), which
-        // is ((3k − 5μ)θ|ξ| + 15μ e)/m where s = 1.
-        let state = |i: usize, e: f64, l: f64, s: f64| {
-            if m[i] > 0.0 {
-                let mi = m[i];
-                g[i] * (3.0 * l / mi * (k * theta[i] - 15.0 * mu * deviation[i] / mi)
-                    + 15.0 * mu / mi * s * (e - theta[i] * l / 3.0))
-            } else {
-                0.0
-            }
-        };
         let vol = &case.particles.volume;
         out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
             for (q, o) in out.iter_mut().enumerate() {
                 let i = c * CHUNK + q;
+                let [ai, bi, ci] = state[i];
                 let mut f = Vec3::zeros();
                 for b in bonds.range(i) {
                     let l = bonds.length(b);
                     let j = bonds.partner[b] as usize;
-                    let (e, dir) = bond(i, j, l);
+                    let e = extension[b];
+                    let dir = direction(stretch, pos, i, j, l);
                     let (si, sj) = if skin {
                         (s_own[b], s_partner[b])
                     } else {
                         (1.0, 1.0)
                     };
-                    f += dir * ((state(i, e, l, si) + state(source(j), e, l, sj)) * bv[b]);
+                    let [aj, bj, cj] = state[source(j)];
+                    let t = ai * l + bi * si * (e - ci * l) + aj * l + bj * sj * (e - cj * l);
+                    f += dir * (t * bv[b]);
                 }
                 finish(i, f * vol[i], o);
             }
@@ -375,4 +400,17 @@ fn surface_factors(lps: &Lps, case: &PdCase, youngs: f64, poisson: f64) -> Vec<f
             }
         })
         .collect()
+}
+
+/// The direction the force of the bond from `i` to `j` (reference length `l`) acts along:
+/// [`extension`]'s, without the extension.
+#[inline]
+fn direction(stretch: Stretch, pos: &[Vec3], i: usize, j: usize, l: f64) -> Vec3 {
+    match stretch {
+        Stretch::Finite => {
+            let y = pos[j] - pos[i];
+            y / y.norm()
+        }
+        Stretch::Small(r) => (r[j] - r[i]) / l,
+    }
 }
