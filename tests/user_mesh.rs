@@ -726,7 +726,7 @@ fn a_mesh_pressed_on_its_copy() {
 }
 
 /// `--poisson 0.3`: the stored gmsh tet sphere in the linear peridynamic solid at ν = 0.3,
-/// Hertz with E* = E/(1 − 0.3²). Measured: MRE 2.22 %, radius −1.26 %, peak +1.1 % in 1,350
+/// Hertz with E* = E/(1 − 0.3²). Measured: MRE 2.22 %, radius −1.26 %, peak +1.1 % in 1,418
 /// ADR iterations (docs/VALIDATION.md, "Any Poisson's ratio").
 #[test]
 fn sphere_at_another_poissons_ratio() {

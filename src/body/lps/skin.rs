@@ -14,6 +14,7 @@
 //! is linear in `k_i`, so one solve; with the neighbours' factors, iterated, the factors move
 //! by 5 % and the Hertz sphere by 0.1 points).
 
+use nalgebra::Matrix3;
 use rayon::prelude::*;
 
 use super::Lps;
@@ -39,27 +40,17 @@ pub fn skin_factors(lps: &Lps, case: &PdCase) -> (Vec<f64>, Vec<Vec3>) {
         .extend_positions(&case.particles.position, &mut x);
     let (m, bv, g) = (&lps.weighted_volume, &lps.bond_volume, &lps.correction);
     let (kb, mu) = (lps.bulk, lps.shear);
-    // Second moments Q_j = Σ_l ω v_c V_l |ξ| ξ (θ_j under ε n⊗n is 3ε nᵀQ_j n / m_j).
-    let moments: Vec<[[f64; 3]; 3]> = (0..n)
+    // Second moments Q_j = Σ_l ω v_c V_l ξ ξᵀ (θ_j under ε n⊗n is 3ε nᵀQ_j n / m_j).
+    let moments: Vec<Matrix3<f64>> = (0..n)
         .into_par_iter()
         .map(|j| {
-            let mut q = [[0.0; 3]; 3];
-            for b in bonds.range(j) {
+            bonds.range(j).fold(Matrix3::zeros(), |q, b| {
                 let xi = x[bonds.partner[b] as usize] - x[j];
-                for r in 0..3 {
-                    for c in 0..3 {
-                        q[r][c] += bv[b] * xi[r] * xi[c];
-                    }
-                }
-            }
-            q
+                q + xi * xi.transpose() * bv[b]
+            })
         })
         .collect();
-    let quad = |q: &[[f64; 3]; 3], v: Vec3| {
-        (0..3)
-            .map(|r| (0..3).map(|c| v[r] * q[r][c] * v[c]).sum::<f64>())
-            .sum::<f64>()
-    };
+    let quad = |q: &Matrix3<f64>, v: Vec3| v.dot(&(q * v));
     let normal = &case.surface.normal;
     let area = &case.segments.pressure_area;
     let sigma = kb + 4.0 * mu / 3.0;
