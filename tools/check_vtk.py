@@ -283,8 +283,17 @@ def check_run(folder, normal, point):
         g = blocks[f"{b}/particles"]
         pd = g.GetPointData()
         require(fields(pd), {"displacement": 3, "velocity": 3, "force": 3, "contact_force": 3,
-                             "contact_pressure": 1, "particle_pressure": 1, "surface": 1, "normal": 3, "body": 1},
+                             "contact_pressure": 1, "particle_pressure": 1, "surface": 1, "normal": 3, "body": 1,
+                             "stress": 9, "von_mises": 1},
                 f"{last}: {b}/particles")
+        # The stress: a symmetric tensor, and von Mises recomputed from it here.
+        sig = vtk_to_numpy(pd.GetArray("stress")).reshape(-1, 3, 3)
+        if not np.allclose(sig, sig.transpose(0, 2, 1), rtol=1e-12, atol=1e-9 * max(1.0, np.abs(sig).max())):
+            raise RuntimeError(f"{last}: {b}: stress is not symmetric")
+        dev = sig - np.trace(sig, axis1=1, axis2=2)[:, None, None] / 3.0 * np.eye(3)
+        vm = np.sqrt(1.5 * (dev * dev).sum(axis=(1, 2)))
+        if not np.allclose(vm, vtk_to_numpy(pd.GetArray("von_mises")), rtol=1e-9, atol=1e-9 * max(1.0, vm.max())):
+            raise RuntimeError(f"{last}: {b}: von_mises is not the stress's")
         if f"{b}/surface" not in blocks:
             raise RuntimeError(f"{last}: no block {b}/surface")
         surface_points += check_surface(b, blocks[f"{b}/surface"], g)

@@ -11,6 +11,7 @@
 
 mod build;
 pub mod lps;
+pub mod stress;
 
 pub use build::{body_mesh, build_body, clip_mesh};
 pub use lps::Lps;
@@ -36,6 +37,15 @@ impl Material {
     /// `m = (1 − ν²)/E` of Eq. 24.
     pub fn compliance(&self) -> f64 {
         (1.0 - self.poisson * self.poisson) / self.youngs
+    }
+
+    /// Lamé's constants `(λ, μ)` of E and ν.
+    pub fn lame(&self) -> (f64, f64) {
+        let (e, nu) = (self.youngs, self.poisson);
+        (
+            e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+            e / (2.0 * (1.0 + nu)),
+        )
     }
 }
 

@@ -181,6 +181,20 @@ impl Domain {
         }
     }
 
+    /// Gives the ghosts of body `k` their owners' `values` (one per particle). Collective.
+    pub fn share(&self, k: usize, values: &mut [Vec3]) {
+        self.ghosts[k].share(self.comm.as_ref(), values);
+    }
+
+    /// Body `k`'s displacements `u` with its ghosts' taken from their owners: a copy, so
+    /// that a frame reads its neighbourhoods without touching the solver's state.
+    /// Collective.
+    pub fn displacements(&self, k: usize, u: &[Vec3]) -> Vec<Vec3> {
+        let mut u = u.to_vec();
+        self.ghosts[k].share(self.comm.as_ref(), &mut u);
+        u
+    }
+
     /// Applies the contact forces of every pass found on this rank (its own slaves): the
     /// reactions on a deformable master go to the nodes' owners, who add them contact by
     /// contact, rank after rank, pass after pass, as one process's [`ContactPass::apply`]

@@ -188,20 +188,6 @@ impl Model {
     /// Decomposes the model over the ranks of `comm` ([`domain`]): from here on this process
     /// evaluates and moves its own particles. Collective.
     pub fn distribute(&mut self, comm: Arc<dyn Comm>) -> Result<()> {
-        // The LPS state needs each partner's dilatation, which the ranks do not exchange.
-        if let Some(pd) = self
-            .bodies
-            .iter()
-            .filter_map(|b| b.as_pd())
-            .find(|pd| pd.lps.is_some())
-        {
-            if comm.size() > 1 {
-                return Err(crate::error::Error::Input(format!(
-                    "body \"{}\": model = \"lps\" does not run over several MPI ranks yet (each rank would need its partners' dilatations); run it in one process, whose threads give the same bits",
-                    pd.name
-                )));
-            }
-        }
         let domain = Domain::new(&self.bodies, &self.passes, &self.short_range, comm);
         let rank = domain.rank();
         for (k, body) in self.bodies.iter_mut().enumerate() {
@@ -326,9 +312,14 @@ impl Model {
         if let Some(d) = &self.domain {
             d.share_displacements(&mut self.bodies);
         }
-        for (body, pos) in self.bodies.iter_mut().zip(&mut self.positions) {
+        let domain = &self.domain;
+        for (k, (body, pos)) in self.bodies.iter_mut().zip(&mut self.positions).enumerate() {
             match body {
-                Body::Deformable(pd) => internal_forces(pd, pos),
+                Body::Deformable(pd) => internal_forces_with(pd, pos, |v| {
+                    if let Some(d) = domain {
+                        d.share(k, v);
+                    }
+                }),
                 Body::Rigid(rb) => {
                     rb.contact_force = Vec3::zeros();
                     rb.contact_stiffness = 0.0;
@@ -413,6 +404,12 @@ impl Model {
 /// Bond forces plus applied loads into `pd.force`; resets contact accumulators. `pos` is
 /// scratch space for the current positions (real particles, then mirror images).
 pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
+    internal_forces_with(pd, pos, |_| {});
+}
+
+/// [`internal_forces`] of the particles `pd.owned`, where `share` gives the ghosts the values
+/// of their owners (a decomposed run: the LPS's force states, between its two sweeps).
+fn internal_forces_with(pd: &mut PdBody, pos: &mut Vec<Vec3>, share: impl FnOnce(&mut [Vec3])) {
     let x = &pd.case.particles.position;
     let n = pd.len();
     let ghosts = &pd.case.ghosts;
@@ -436,9 +433,15 @@ pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
                 Kinematics::Small => Stretch::Small(&pd.reference),
                 Kinematics::Finite => Stretch::Finite,
             };
-            lps.forces(&pd.case, pos, stretch, &mut pd.force, |i, f, out| {
-                *out = f + load[i]
-            });
+            lps.forces_on(
+                &pd.case,
+                pos,
+                stretch,
+                pd.owned.clone(),
+                share,
+                &mut pd.force,
+                |i, f, out| *out = f + load[i],
+            );
         }
         None => pair_forces(
             &pd.pairs,

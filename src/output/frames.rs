@@ -26,6 +26,7 @@ use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::body::stress::{von_mises, Tensor};
 use crate::body::Body;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
@@ -280,11 +281,19 @@ impl FrameWriter {
                         .as_ref()
                         .map_or(0..n, |d| d.ranges[k][rank].clone());
                     let at: Vec<usize> = own.clone().collect();
+                    // The stress of this process's particles, from their neighbourhoods (in a
+                    // decomposed run, the ghosts' displacements fresh from their owners).
+                    let stress = match &model.domain {
+                        Some(d) => pd.stress(&d.displacements(k, &pd.u), &at),
+                        None => pd.stress(&pd.u, &at),
+                    };
                     // The particle's own state, where it is held.
+                    let first = own.start;
                     let here = |i: usize| {
                         (
                             [pd.u[i], pd.v[i], pd.force[i], pd.contact_force[i]],
                             [pressure[i], own_pressure[i]],
+                            stress[i - first],
                         )
                     };
                     let fields = point_fields(model, k, &at, |m| here(at[m]));
@@ -324,15 +333,20 @@ impl FrameWriter {
                         .collect();
                     let surface_fields = match &model.domain {
                         Some(d) => {
-                            let got = d.collect(k, &nodes, 14, |i, out| {
-                                let (v, p) = here(i);
+                            let got = d.collect(k, &nodes, WIDTH, |i, out| {
+                                let (v, p, t) = here(i);
                                 out.extend(v.iter().flat_map(|v| v.iter()));
                                 out.extend(p);
+                                out.extend(t.iter());
                             });
                             point_fields(model, k, &nodes, |m| {
-                                let r = &got[14 * m..14 * m + 14];
+                                let r = &got[WIDTH * m..WIDTH * (m + 1)];
                                 let v3 = |c: usize| Vec3::new(r[3 * c], r[3 * c + 1], r[3 * c + 2]);
-                                ([v3(0), v3(1), v3(2), v3(3)], [r[12], r[13]])
+                                (
+                                    [v3(0), v3(1), v3(2), v3(3)],
+                                    [r[12], r[13]],
+                                    Tensor::from_column_slice(&r[14..]),
+                                )
                             })
                         }
                         None => point_fields(model, k, &nodes, |m| here(nodes[m])),
@@ -424,17 +438,23 @@ impl FrameWriter {
     }
 }
 
+/// A particle's state in a frame: `u`, `v`, force, contact force; the recovered and the
+/// particle's own contact pressure; its stress.
+type PointState = ([Vec3; 4], [f64; 2], Tensor);
+
+/// Numbers of a [`PointState`] sent between ranks.
+const WIDTH: usize = 4 * 3 + 2 + 9;
+
 /// The point fields of body `k` at its particles `at`: the state of `at[m]` from
-/// `state(m)` (`u`, `v`, force, contact force; the recovered and the particle's own contact
-/// pressure), the rest from the case.
+/// `state(m)`, the rest from the case.
 fn point_fields(
     model: &Model,
     k: usize,
     at: &[usize],
-    state: impl Fn(usize) -> ([Vec3; 4], [f64; 2]),
+    state: impl Fn(usize) -> PointState,
 ) -> Vec<Field> {
     let pd = model.bodies[k].as_pd().expect("a deformable body");
-    let states: Vec<([Vec3; 4], [f64; 2])> = (0..at.len()).map(state).collect();
+    let states: Vec<PointState> = (0..at.len()).map(state).collect();
     let column = |c: usize| states.iter().map(|s| s.0[c]).collect::<Vec<Vec3>>();
     let case = &pd.case;
     vec![
@@ -444,6 +464,11 @@ fn point_fields(
         Field::vector("contact_force", column(3)),
         Field::scalar("contact_pressure", states.iter().map(|s| s.1[0]).collect()),
         Field::scalar("particle_pressure", states.iter().map(|s| s.1[1]).collect()),
+        Field::tensor("stress", states.iter().map(|s| s.2).collect()),
+        Field::scalar(
+            "von_mises",
+            states.iter().map(|s| von_mises(&s.2)).collect(),
+        ),
         Field::int(
             "surface",
             at.iter()

@@ -6,10 +6,12 @@
 //! | the frames of a run, `run.pvd`, `view.py`, progress on stderr | [`frames`] |
 //! | contact patch, Hertz and Sadowsky references | [`analysis`] |
 //! | contact pressure recovered on the slave surface | [`recovery`] |
+//! | the largest shear below a contact against Hertz's | [`subsurface`] |
 
 pub mod analysis;
 pub mod frames;
 pub mod recovery;
+pub mod subsurface;
 pub mod vtk;
 
 pub use frames::{FrameWriter, RunMonitor, PVD_NAME};

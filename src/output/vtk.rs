@@ -12,6 +12,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use nalgebra::Matrix3;
 use vtkio::model::{
     Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, IOBuffer,
     UnstructuredGridPiece, Version, VertexNumbers, Vtk,
@@ -28,6 +29,8 @@ pub enum Field {
     Scalar(String, Vec<f64>),
     /// Real 3-vectors.
     Vector(String, Vec<Vec3>),
+    /// Real 3×3 tensors (ParaView reads the nine components row by row).
+    Tensor(String, Vec<Matrix3<f64>>),
     /// Small integers (flags, body numbers).
     Int(String, Vec<i32>),
     /// Large integers (node ids).
@@ -42,6 +45,10 @@ impl Field {
     /// A vector field.
     pub fn vector(name: &str, data: Vec<Vec3>) -> Field {
         Field::Vector(name.to_string(), data)
+    }
+    /// A tensor field.
+    pub fn tensor(name: &str, data: Vec<Matrix3<f64>>) -> Field {
+        Field::Tensor(name.to_string(), data)
     }
     /// A 0/1 flag field.
     pub fn flag(name: &str, data: &[bool]) -> Field {
@@ -61,6 +68,7 @@ impl Field {
         match self {
             Field::Scalar(n, _) => (n.clone(), "Float64", 1),
             Field::Vector(n, _) => (n.clone(), "Float64", 3),
+            Field::Tensor(n, _) => (n.clone(), "Float64", 9),
             Field::Int(n, _) => (n.clone(), "Int32", 1),
             Field::Id(n, _) => (n.clone(), "Int64", 1),
         }
@@ -72,6 +80,14 @@ impl Field {
             Field::Vector(n, d) => {
                 let flat: Vec<f64> = d.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
                 Attribute::DataArray(DataArray::vectors(n).with_data(flat))
+            }
+            Field::Tensor(n, d) => {
+                // Row by row: nalgebra stores columns, so the transpose's columns.
+                let mut flat = Vec::with_capacity(9 * d.len());
+                for t in &d {
+                    flat.extend_from_slice(t.transpose().as_slice());
+                }
+                Attribute::DataArray(DataArray::tensors(n).with_data(flat))
             }
             Field::Int(n, d) => Attribute::DataArray(DataArray::scalars(n, 1).with_data(d)),
             Field::Id(n, d) => Attribute::DataArray(DataArray::scalars(n, 1).with_data(d)),

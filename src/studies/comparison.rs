@@ -13,6 +13,7 @@ use crate::output::analysis::{
     contact_patch, elliptic_accuracy, hertz_cylinder, hertz_sphere, punch_accuracy, Accuracy,
     ContactPatch,
 };
+use crate::output::subsurface::{subsurface_shear, SubsurfaceShear};
 use crate::output::vtk::write_atomically;
 use crate::run::{run_scene, RunOptions};
 use crate::scene::Scene;
@@ -45,6 +46,9 @@ pub struct ValidationRow {
     /// Peak pressure against the theory's `p0`, relative (Hertz rows; none for the punch,
     /// whose theory is singular at the edges).
     pub peak_error: Option<f64>,
+    /// The largest shear stress below the contact against Hertz's (sphere rows of a body
+    /// pressed by a rigid partner, [`subsurface_shear`]).
+    pub subsurface_shear: Option<SubsurfaceShear>,
     pub chart: PathBuf,
 }
 
@@ -77,6 +81,14 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
         .ok_or_else(|| Error::numerical(format!("{}: no contact formed", dir.display())))?;
     let mut rows = Vec::new();
     let mut charted: Vec<(String, f64, f64, Accuracy)> = Vec::new();
+    // The stress below a sphere's contact: Hertz's on its axis needs the partner's E* in
+    // the row, so only against a rigid partner (every other row is a rigid plane's).
+    let below = |a: f64, p0: f64| match &case.reference {
+        Reference::Sphere { .. } => model.bodies[0]
+            .as_pd()
+            .and_then(|pd| subsurface_shear(pd, &patch, a, p0)),
+        _ => None,
+    };
     // (label, a, p0, accuracy, peak pressure) per row.
     let variants: Vec<(String, f64, f64, Accuracy, f64)> = match &case.reference {
         Reference::Sphere {
@@ -166,6 +178,11 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
             peak_error: match case.problem {
                 Problem::Punch => None,
                 _ => Some(peak / p0 - 1.0),
+            },
+            subsurface_shear: if label == "rigid plane" {
+                below(*a, *p0)
+            } else {
+                None
             },
             chart: chart.clone(),
         });

@@ -34,7 +34,7 @@ fn table_columns(rows: &[ValidationRow], peak: bool) -> String {
         "case", "set", "theory", "Δ (m)", "m", "particles", "MRE", "radius"
     );
     if peak {
-        s.push_str(&format!(" {:>9}", "peak"));
+        s.push_str(&format!(" {:>9} {:>9}", "peak", "shear"));
     }
     s.push_str(&format!(
         " {:>9} {:>7} {:>8}\n",
@@ -55,6 +55,10 @@ fn table_columns(rows: &[ValidationRow], peak: bool) -> String {
         if peak {
             match r.peak_error {
                 Some(e) => s.push_str(&format!(" {:>+8.2}%", 100.0 * e)),
+                None => s.push_str(&format!(" {:>9}", "–")),
+            }
+            match &r.subsurface_shear {
+                Some(t) => s.push_str(&format!(" {:>+8.2}%", 100.0 * t.error)),
                 None => s.push_str(&format!(" {:>9}", "–")),
             }
         }

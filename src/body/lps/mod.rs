@@ -20,6 +20,8 @@
 
 mod skin;
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 pub use skin::skin_factors;
@@ -56,8 +58,9 @@ pub struct Lps {
     /// Per real particle: `D_i = Σ_j ω s_i e^d |ξ| v_c V_j / 3` of the last pass, which the
     /// skin's weights make nonzero (scratch).
     deviation: Vec<f64>,
-    /// Per real particle: the force state's constants of the last pass (scratch).
-    state: Vec<[f64; 3]>,
+    /// Per real particle: the force state's three constants of the last pass (scratch; a
+    /// `Vec3` so that a decomposed run sends them to ghosts as it sends displacements).
+    state: Vec<Vec3>,
     /// Per directed bond: its extension in the last pass (scratch).
     extension: Vec<f64>,
 }
@@ -110,7 +113,7 @@ impl Lps {
             skin_moment: Vec::new(),
             dilatation: vec![0.0; n],
             deviation: vec![0.0; n],
-            state: vec![[0.0; 3]; n],
+            state: vec![Vec3::zeros(); n],
             extension: Vec::new(),
         };
         lps.correction = surface_factors(&lps, case, youngs, poisson);
@@ -213,6 +216,26 @@ impl Lps {
         finish: impl Fn(usize, Vec3, &mut T) + Sync,
     ) {
         let n = case.particles.len();
+        self.forces_on(case, pos, stretch, 0..n, |_| {}, out, finish);
+    }
+
+    /// [`forces`](Self::forces) for the particles `own` alone (a rank's share of a decomposed
+    /// run; `finish` is called for these only): their dilatations and force states, then
+    /// `share` gives the other particles' states from their owners (every bond partner of
+    /// `own`: the ghosts), then their forces. Each owned particle's force is the same sum in
+    /// the same order as in one process, so the bits do not depend on the ranks.
+    #[allow(clippy::too_many_arguments)]
+    pub fn forces_on<T: Send>(
+        &mut self,
+        case: &PdCase,
+        pos: &[Vec3],
+        stretch: Stretch,
+        own: Range<usize>,
+        share: impl FnOnce(&mut [Vec3]),
+        out: &mut [T],
+        finish: impl Fn(usize, Vec3, &mut T) + Sync,
+    ) {
+        let n = case.particles.len();
         let bonds = &case.bonds;
         let bond = |i: usize, j: usize, l: f64| extension(stretch, pos, i, j, l);
         let (bv, m) = (&self.bond_volume, &self.weighted_volume);
@@ -228,6 +251,9 @@ impl Lps {
             .for_each(|(((range, ext), theta), dev)| {
                 let first = bonds.offsets[range.start];
                 for ((i, t), d) in range.zip(theta.iter_mut()).zip(dev.iter_mut()) {
+                    if !own.contains(&i) {
+                        continue;
+                    }
                     let (mut sum, mut skinned) = (0.0, 0.0);
                     for b in bonds.range(i) {
                         let l = bonds.length(b);
@@ -259,18 +285,22 @@ impl Lps {
             .for_each(|(c, state)| {
                 for (q, t) in state.iter_mut().enumerate() {
                     let i = c * CHUNK + q;
+                    if !own.contains(&i) {
+                        continue;
+                    }
                     let mi = m[i];
                     *t = if mi > 0.0 {
-                        [
+                        Vec3::new(
                             g[i] * 3.0 / mi * (k * theta[i] - 15.0 * mu * deviation[i] / mi),
                             g[i] * 15.0 * mu / mi,
                             theta[i] / 3.0,
-                        ]
+                        )
                     } else {
-                        [0.0; 3]
+                        Vec3::zeros()
                     };
                 }
             });
+        share(&mut self.state);
         let (state, extension) = (&self.state, &self.extension);
         let source = |j: usize| {
             if j < n {
@@ -283,7 +313,10 @@ impl Lps {
         out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
             for (q, o) in out.iter_mut().enumerate() {
                 let i = c * CHUNK + q;
-                let [ai, bi, ci] = state[i];
+                if !own.contains(&i) {
+                    continue;
+                }
+                let [ai, bi, ci] = state[i].into();
                 let mut f = Vec3::zeros();
                 for b in bonds.range(i) {
                     let l = bonds.length(b);
@@ -295,7 +328,7 @@ impl Lps {
                     } else {
                         (1.0, 1.0)
                     };
-                    let [aj, bj, cj] = state[source(j)];
+                    let [aj, bj, cj] = state[source(j)].into();
                     let t = ai * l + bi * si * (e - ci * l) + aj * l + bj * sj * (e - cj * l);
                     f += dir * (t * bv[b]);
                 }
