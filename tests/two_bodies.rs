@@ -242,6 +242,41 @@ fn two_gmsh_tet_spheres_pressed_together_agree_with_hertz() {
     }
 }
 
+/// A deformable partner of another Poisson's ratio: the upper sphere in the LPS at ν = 0.3,
+/// the lower bond-based (ν = 0.25), Hertz with `1/E* = Σ (1 − ν²)/E`. Measured on this pair
+/// (h = 0.06, 6 s): upper MRE 2.24 %, radius +2.49 %, lower 2.75 %, −0.38 %; at h = 0.05
+/// (`tools/gmsh_two_spheres.py`): upper 1.74 %, +1.73 %, lower 2.42 %, −1.27 %
+/// (docs/VALIDATION.md, "Any Poisson's ratio").
+#[test]
+fn an_lps_sphere_on_a_bond_based_one() {
+    let text = scene("adr", "tet4", true);
+    let upper = text
+        .find("poisson_ratio = 0.25")
+        .expect("the upper material");
+    let text = format!(
+        "{}poisson_ratio = 0.3\nmodel = \"lps\"{}",
+        &text[..upper],
+        &text[upper + "poisson_ratio = 0.25".len()..]
+    );
+    let e_star = 1.0 / ((1.0 - 0.09) / YOUNGS + (1.0 - POISSON * POISSON) / YOUNGS);
+    let f = run("lps-pair", &text, e_star, 0.5);
+    assert!(f.summary.converged, "{}", f.summary.residual);
+    assert_eq!(f.bodies.len(), 2);
+    for (k, &(mre, radius, force)) in f.bodies.iter().enumerate() {
+        eprintln!(
+            "body {k}: MRE {:.2} %, radius {:+.2} %, force {force:.1e}",
+            100.0 * mre,
+            100.0 * radius
+        );
+        assert!(mre < 0.05, "body {k}: MRE {mre}");
+        assert!(radius.abs() < 0.03, "body {k}: radius error {radius}");
+        assert!(
+            force.abs() < 1e-3,
+            "body {k}: contact force off the load by {force}"
+        );
+    }
+}
+
 /// With one pass ADR loses a slave: the error names it, the segment and the depth, and says
 /// that the penalty (which Hertz's estimate shows stiff enough) is not the cause.
 #[test]
