@@ -83,7 +83,7 @@ fn a_homogeneous_deformation_gives_the_continuums_stress_everywhere() {
             let x = pd.case.particles.position.clone();
             pd.u = x.iter().map(|p| p.component_mul(&stretch)).collect();
             let at: Vec<usize> = (0..pd.len()).collect();
-            let got = pd.stress(&pd.u, &at);
+            let got = pd.stress(&pd.u, &at, None);
             let f = Matrix3::identity() + Matrix3::from_diagonal(&stretch);
             let want = match kinematics {
                 "small" => hooke(Matrix3::from_diagonal(&stretch), poisson),
@@ -100,6 +100,55 @@ fn a_homogeneous_deformation_gives_the_continuums_stress_everywhere() {
             assert!(worst < 1e-9 * want.amax(), "{model} {kinematics}: {worst}");
         }
     }
+}
+
+/// A contact pressure given on surface particles is imposed as their traction, whatever the
+/// displacements: `σ n = −p n` there (frictionless), and the other particles' stress is the
+/// fit's alone.
+#[test]
+fn a_contact_pressure_is_the_loaded_surface_particles_traction() {
+    let mut m = model_of(&bar_scene("lps", 0.3, "small", 0.0));
+    let pd = m.bodies[0].as_pd_mut().expect("deformable");
+    let x = pd.case.particles.position.clone();
+    // Not a homogeneous field: the fit's strain across the surface is not the traction's.
+    pd.u = x
+        .iter()
+        .map(|p| {
+            nalgebra::Vector3::new(
+                -1e-3 * p.x + 4e-4 * p.x * p.x,
+                2e-4 * p.y * p.x,
+                -3e-4 * p.z,
+            )
+        })
+        .collect();
+    let n = pd.len();
+    let pressure: Vec<f64> = (0..n)
+        .map(|i| {
+            if pd.case.surface.is_surface[i] && x[i].x > 1.5 {
+                2e6
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let at: Vec<usize> = (0..n).collect();
+    let with = pd.stress(&pd.u, &at, Some(&pressure));
+    let without = pd.stress(&pd.u, &at, None);
+    let mut loaded = 0;
+    for i in 0..n {
+        if pressure[i] > 0.0 {
+            loaded += 1;
+            let normal = pd.case.surface.normal[i].normalize();
+            let t = with[i] * normal;
+            assert!(
+                (t + normal * pressure[i]).amax() < 1e-6 * pressure[i],
+                "particle {i}: {t}"
+            );
+        } else {
+            assert_eq!(with[i], without[i], "particle {i}");
+        }
+    }
+    assert!(loaded > 20, "{loaded} loaded particles");
 }
 
 /// The bar pulled by 1 MPa (LPS, ν = 0.3, ADR to 1e-6): in its middle half, a horizon
@@ -127,7 +176,7 @@ fn a_bar_in_tension_carries_the_applied_stress() {
     let middle: Vec<usize> = (0..pd.len())
         .filter(|&i| x[i].x > 0.4 && x[i].x < 1.2 && x[i].y < inside && x[i].z < inside)
         .collect();
-    let stress = pd.stress(&pd.u, &middle);
+    let stress = pd.stress(&pd.u, &middle, None);
     let mean = stress.iter().sum::<Matrix3<f64>>() / stress.len() as f64;
     let vm = stress.iter().map(von_mises).sum::<f64>() / stress.len() as f64;
     let tau = stress.iter().map(max_shear).sum::<f64>() / stress.len() as f64;

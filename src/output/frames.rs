@@ -284,8 +284,8 @@ impl FrameWriter {
                     // The stress of this process's particles, from their neighbourhoods (in a
                     // decomposed run, the ghosts' displacements fresh from their owners).
                     let stress = match &model.domain {
-                        Some(d) => pd.stress(&d.displacements(k, &pd.u), &at),
-                        None => pd.stress(&pd.u, &at),
+                        Some(d) => pd.stress(&d.displacements(k, &pd.u), &at, Some(&pressure)),
+                        None => pd.stress(&pd.u, &at, Some(&pressure)),
                     };
                     // The particle's own state, where it is held.
                     let first = own.start;

@@ -90,7 +90,7 @@ pub fn subsurface_shear(
         })
         .collect();
     let at: Vec<usize> = axis.iter().map(|s| s.0).collect();
-    let stress = pd.stress(&pd.u, &at);
+    let stress = pd.stress(&pd.u, &at, None);
     let (peak, depth) = axis
         .iter()
         .zip(&stress)
