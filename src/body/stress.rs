@@ -14,9 +14,9 @@
 //! St Venant-Kirchhoff solid, `σ = F S Fᵀ / det F`, `S = λ tr E I + 2μ E`, `E = ½(FᵀF − I)`,
 //! `F = I + H`.
 //!
-//! The weights `w_j = V_j (1 − |ξ|/r)²` fall to zero at the bonds' reach `r = δ + Δ/2`: a fit over the whole
-//! horizon (`w_j = V_j`) averages a field over ±δ and lowers a peak that is narrower than
-//! that (the subsurface shear under a Hertz contact a few horizons wide).
+//! The weights `w_j = V_j (1 − |ξ|/r)²` fall to zero at the bonds' reach `r = δ + Δ/2`: a fit
+//! over the whole horizon (`w_j = V_j`) averages a field over ±δ and lowers a peak that is
+//! narrower than that (the subsurface shear under a Hertz contact a few horizons wide).
 //!
 //! Where a surface particle carries a contact pressure `p` (given), the traction is imposed
 //! as an FE code's recovery imposes its boundary conditions: the strain's components in the
@@ -57,7 +57,7 @@ impl PdBody {
         // The bonds' reach at each particle, `δ + Δ/2` (Eq. 10; it follows the mesh where
         // the spacing does).
         let spacing = case.particles.spacing;
-        let horizon = |i: usize| {
+        let reach_of = |i: usize| {
             let s = case.local_spacing.as_ref().map_or(spacing, |s| s[i]);
             (case.horizon / spacing + 0.5) * s
         };
@@ -77,7 +77,7 @@ impl PdBody {
         at.par_iter()
             .map(|&i| {
                 let xi0 = self.reference[i];
-                let reach = horizon(i);
+                let reach = reach_of(i);
                 let mut shape = Tensor::zeros();
                 let mut stretch = Tensor::zeros();
                 for b in bonds.range(i) {

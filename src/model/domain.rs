@@ -191,7 +191,7 @@ impl Domain {
     /// Collective.
     pub fn displacements(&self, k: usize, u: &[Vec3]) -> Vec<Vec3> {
         let mut u = u.to_vec();
-        self.ghosts[k].share(self.comm.as_ref(), &mut u);
+        self.share(k, &mut u);
         u
     }
 
