@@ -6,6 +6,8 @@
 //! squares over the particles' displacements), against E = 1 GPa and the ν asked for
 //! (docs/VALIDATION.md, "Any Poisson's ratio").
 
+mod common;
+
 use std::path::Path;
 
 use nalgebra::{DMatrix, DVector};
@@ -19,42 +21,9 @@ const STRESS: f64 = 1e6;
 const LENGTH: f64 = 1.6;
 const HALF_WIDTH: f64 = 0.8;
 
+/// The bar (`tests/common`) pulled by `STRESS`.
 fn scene(model: &str, poisson: f64, solver: &str, skin: bool) -> String {
-    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/bar_tet4_h005.msh");
-    format!(
-        r#"[solver]
-kind = "{solver}"
-tolerance = 1e-6
-max_iterations = 100000
-[output]
-every = 1000000
-[[body]]
-name = "bar"
-mesh = {mesh:?}
-kinematics = "small"
-skin_correction = {skin}
-[body.material]
-youngs_modulus = {YOUNGS:e}
-poisson_ratio = {poisson}
-density = 1000.0
-model = "{model}"
-[[load]]
-body = "bar"
-set = "end"
-force = [{force:e}, 0.0, 0.0]
-[[symmetry]]
-body = "bar"
-axis = "x"
-[[symmetry]]
-body = "bar"
-axis = "y"
-[[symmetry]]
-body = "bar"
-axis = "z"
-"#,
-        mesh = mesh.display().to_string(),
-        force = STRESS * HALF_WIDTH * HALF_WIDTH,
-    )
+    common::bar_scene(model, poisson, solver, "small", skin, STRESS)
 }
 
 /// Runs scene `text` to convergence.

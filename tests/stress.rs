@@ -4,6 +4,8 @@
 //! the applied stress in a bar under tension; written into the frames as a tensor that VTK
 //! reads back (docs/VALIDATION.md, "Any Poisson's ratio").
 
+mod common;
+
 use std::path::Path;
 
 use nalgebra::Matrix3;
@@ -14,48 +16,9 @@ use pdcontact::scene::Scene;
 
 const YOUNGS: f64 = 1e9;
 
-/// An eighth of a bar of gmsh-default tets (`meshes/bar_tet4_h005.geo`, symmetry planes
-/// x = 0, y = 0, z = 0), pulled on its end face by `traction` (Pa) where not zero.
+/// The bar (`tests/common`), pulled on its end face by `traction` (Pa) where not zero.
 fn bar_scene(model: &str, poisson: f64, kinematics: &str, traction: f64) -> String {
-    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/bar_tet4_h005.msh");
-    let load = if traction != 0.0 {
-        format!(
-            "[[load]]\nbody = \"bar\"\nset = \"end\"\nforce = [{:e}, 0.0, 0.0]\n",
-            traction * 0.8 * 0.8
-        )
-    } else {
-        String::new()
-    };
-    format!(
-        r#"[solver]
-kind = "adr"
-tolerance = 1e-6
-max_iterations = 100000
-[output]
-every = 1000000
-[[body]]
-name = "bar"
-mesh = {mesh:?}
-kinematics = "{kinematics}"
-skin_correction = false
-[body.material]
-youngs_modulus = {YOUNGS:e}
-poisson_ratio = {poisson}
-density = 1000.0
-model = "{model}"
-{load}
-[[symmetry]]
-body = "bar"
-axis = "x"
-[[symmetry]]
-body = "bar"
-axis = "y"
-[[symmetry]]
-body = "bar"
-axis = "z"
-"#,
-        mesh = mesh.display().to_string(),
-    )
+    common::bar_scene(model, poisson, "adr", kinematics, false, traction)
 }
 
 fn model_of(text: &str) -> Model {

@@ -19,24 +19,8 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 
-find_lammps() {
-    for name in lmp lmp_serial lmp_mpi lammps; do
-        if command -v "$name" >/dev/null 2>&1; then
-            command -v "$name"
-            return 0
-        fi
-    done
-    return 1
-}
-
-if ! LMP=$(find_lammps); then
-    echo "LAMMPS not found: installing Debian's lammps package" >&2
-    SUDO=""
-    if [ "$(id -u)" != 0 ]; then SUDO=sudo; fi
-    $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq lammps >&2
-    LMP=$(find_lammps) || { echo "error: lammps installed but no lmp binary found" >&2; exit 2; }
-fi
+. "$ROOT/tools/peer_lammps_common.sh"
+LMP=$(lammps_binary)
 MPIRUN=$(command -v mpirun || true)
 
 cat >"$WORK/in.sphere" <<EOF
@@ -76,7 +60,6 @@ echo "building pdcontact (release)" >&2
 (cd "$ROOT" && cargo build --release --quiet)
 PD="${CARGO_TARGET_DIR:-$ROOT/target}/release/pdcontact"
 
-median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 
 # One LAMMPS run: prints "loop_seconds atoms neighbours_per_atom energy_drift" (the drift of
 # its total energy, kinetic + PMB strain, over the run).

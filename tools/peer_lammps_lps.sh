@@ -23,15 +23,8 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 
-LMP=$(command -v lmp || command -v lmp_serial || command -v lmp_mpi || true)
-if [ -z "$LMP" ]; then
-    echo "LAMMPS not found: installing Debian's lammps package" >&2
-    SUDO=""
-    if [ "$(id -u)" != 0 ]; then SUDO=sudo; fi
-    $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq lammps >&2
-    LMP=$(command -v lmp) || { echo "error: no lmp binary after installing lammps" >&2; exit 2; }
-fi
+. "$ROOT/tools/peer_lammps_common.sh"
+LMP=$(lammps_binary)
 MPIRUN=$(command -v mpirun || true)
 
 read -r K G < <(python3 -c "e=1e9; nu=$NU; print(e/(3*(1-2*nu)), e/(2*(1+nu)))")
@@ -96,7 +89,6 @@ echo "building pdcontact (release)" >&2
 (cd "$ROOT" && cargo build --release --quiet)
 PD="${CARGO_TARGET_DIR:-$ROOT/target}/release/pdcontact"
 
-median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 
 # LAMMPS: "bond_updates_per_second atoms neighbours_per_atom".
 lammps_once() {

@@ -49,3 +49,55 @@ pub fn check_vtk<S: AsRef<OsStr>>(args: &[S]) -> Option<String> {
     );
     Some(stdout)
 }
+
+/// The bar of tests/lps.rs and tests/stress.rs: an eighth of a 3.2 × 1.6 × 1.6 m bar of
+/// gmsh-default tets (`meshes/bar_tet4_h005.geo`, symmetry planes x = 0, y = 0, z = 0),
+/// E = 1 GPa, pulled on its end face by `traction` (Pa; none where 0), solved by `solver` to
+/// 1e-6.
+pub fn bar_scene(
+    model: &str,
+    poisson: f64,
+    solver: &str,
+    kinematics: &str,
+    skin: bool,
+    traction: f64,
+) -> String {
+    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/bar_tet4_h005.msh");
+    let load = if traction != 0.0 {
+        format!(
+            "[[load]]\nbody = \"bar\"\nset = \"end\"\nforce = [{:e}, 0.0, 0.0]\n",
+            traction * 0.8 * 0.8
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        r#"[solver]
+kind = "{solver}"
+tolerance = 1e-6
+max_iterations = 100000
+[output]
+every = 1000000
+[[body]]
+name = "bar"
+mesh = {mesh:?}
+kinematics = "{kinematics}"
+skin_correction = {skin}
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = {poisson}
+density = 1000.0
+model = "{model}"
+{load}[[symmetry]]
+body = "bar"
+axis = "x"
+[[symmetry]]
+body = "bar"
+axis = "y"
+[[symmetry]]
+body = "bar"
+axis = "z"
+"#,
+        mesh = mesh.display().to_string(),
+    )
+}
