@@ -276,6 +276,27 @@ fn material_constants() {
         "poisson_ratio",
         &["0.25", "0.3", "bond-based"],
     );
+    // The LPS's influence function on a bond-based body, and a name it does not know.
+    let text = GOOD.replace(
+        "density = 1000.0",
+        "density = 1000.0\ninfluence_function = \"constant\"",
+    );
+    assert_error(
+        "influence-bond-based",
+        &text,
+        "influence_function",
+        &["block", "lps"],
+    );
+    let text = GOOD.replace(
+        "density = 1000.0",
+        "density = 1000.0\nmodel = \"lps\"\ninfluence_function = \"gaussian\"",
+    );
+    assert_error(
+        "influence-unknown",
+        &text,
+        "gaussian",
+        &["position-aware", "constant"],
+    );
     // A rigid body's optional material is checked as well.
     let text = GOOD.replace(
         "kind = \"rigid\"",

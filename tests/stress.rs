@@ -115,15 +115,19 @@ fn a_contact_pressure_is_the_loaded_surface_particles_traction() {
 }
 
 /// The bar pulled by 1 MPa (LPS, ν = 0.3, ADR to 1e-6): in its middle half, a horizon
-/// inside its free faces, the mean recovered σ_xx within 4 % of the traction, the lateral
-/// stresses under 1 % of it, von Mises and twice the largest shear within 4 % of it.
-/// Measured: σ_xx 0.967 MPa, σ_yy +0.0001, σ_zz −0.004, von Mises 0.969, largest shear
-/// 0.486: the bulk carries 3.3 % less than the traction, the bar's skin (a horizon thick,
-/// stiffer along its faces) the rest, as the bar's apparent E (+3.3 %, tests/lps.rs) says.
+/// inside its free faces, the mean recovered σ_xx within 1 % of the traction, the lateral
+/// stresses under 2 % of it, von Mises and twice the largest shear within 2 % of it.
+/// Measured (`influence_function = "position-aware"`): σ_xx 0.997 MPa, σ_yy +0.010, σ_zz
+/// +0.006, von Mises 0.990, largest shear 0.496: the bulk carries the traction (with ω = 1 and a factor per
+/// particle it carried 0.967 MPa, its skin, stiff along the faces, the rest: E +3.3 %).
+/// σ_yy is ν's 0.005 shortfall on that axis of this mesh (tests/lps.rs).
 #[test]
 fn a_bar_in_tension_carries_the_applied_stress() {
     let traction = 1e6;
-    let text = bar_scene("lps", 0.3, "small", traction);
+    let text = bar_scene("lps", 0.3, "small", traction).replace(
+        "model = \"lps\"",
+        "model = \"lps\"\ninfluence_function = \"position-aware\"",
+    );
     let scene = Scene::parse(&text, "scene.toml", Path::new(".")).expect("scene");
     let options = RunOptions {
         output: None,
@@ -153,13 +157,13 @@ fn a_bar_in_tension_carries_the_applied_stress() {
         tau / 1e6
     );
     eprintln!("{message}");
-    assert!((mean[(0, 0)] / traction - 1.0).abs() < 0.04, "{message}");
+    assert!((mean[(0, 0)] / traction - 1.0).abs() < 0.01, "{message}");
     assert!(
-        mean[(1, 1)].abs() < 0.01 * traction && mean[(2, 2)].abs() < 0.01 * traction,
+        mean[(1, 1)].abs() < 0.02 * traction && mean[(2, 2)].abs() < 0.02 * traction,
         "{message}"
     );
     assert!(
-        (vm / traction - 1.0).abs() < 0.04 && (2.0 * tau / traction - 1.0).abs() < 0.04,
+        (vm / traction - 1.0).abs() < 0.02 && (2.0 * tau / traction - 1.0).abs() < 0.02,
         "{message}"
     );
 }

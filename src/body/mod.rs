@@ -21,7 +21,7 @@ use crate::case::pairs::{ForceBuffers, PairList};
 use crate::case::segments::MasterSegment;
 use crate::case::PdCase;
 use crate::math::Vec3;
-use crate::scene::{Kinematics, MaterialModel, Motion};
+use crate::scene::{Kinematics, LpsSurface, MaterialModel, Motion};
 
 /// Linear elastic material.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,6 +31,8 @@ pub struct Material {
     pub density: f64,
     /// Bond-based or the linear peridynamic solid.
     pub model: MaterialModel,
+    /// The linear peridynamic solid's surface correction.
+    pub lps_surface: LpsSurface,
 }
 
 impl Material {
@@ -167,7 +169,8 @@ impl PdBody {
         let mut bond_weight = Vec::with_capacity(bonds.len());
         let mut stiffness = vec![0.0; n];
         let lps = (material.model == MaterialModel::Lps).then(|| {
-            let mut lps = Lps::new(&case, material.youngs, material.poisson);
+            let position_aware = material.lps_surface == LpsSurface::PositionAware;
+            let mut lps = Lps::new(&case, material.youngs, material.poisson, position_aware);
             // `skin_correction` (on by default) asks for the LPS's own ([`lps::skin_factors`]).
             if case.skin.is_some() {
                 let (factor, normal) = lps::skin_factors(&lps, &case);

@@ -264,7 +264,7 @@ pub(super) fn lps_contact_warnings(scene: &Scene, model: &Model) -> Vec<String> 
                 .any(|c| c.slave == pd.name || c.master == pd.name)
         })
         .filter_map(|pd| {
-            let skin = pd.lps.as_ref().is_some_and(|l| !l.skin_own.is_empty());
+            let skin = pd.lps.as_ref().is_some_and(|l| l.skin);
             let nu = pd.material.poisson;
             if !skin {
                 Some(format!(

@@ -79,6 +79,15 @@ impl Scene {
                         ));
                     }
                 }
+                if m.model != MaterialModel::Lps && m.influence_function.is_some() {
+                    return Err(err(
+                        "influence_function",
+                        format!(
+                            "body \"{}\": influence_function is the linear peridynamic solid's (model = \"lps\" in [body.material]); bond-based PD here has none to choose",
+                            b.name
+                        ),
+                    ));
+                }
                 match m.model {
                     MaterialModel::BondBased if (m.poisson_ratio - 0.25).abs() > 1e-9 => {
                         return Err(err(

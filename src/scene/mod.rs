@@ -292,6 +292,24 @@ pub struct MaterialSpec {
     /// The PD material model (bond-based by default).
     #[serde(default)]
     pub model: MaterialModel,
+    /// The linear peridynamic solid's influence function (constant by default), which is how
+    /// it corrects its surface effect; `model = "lps"` only.
+    pub influence_function: Option<LpsSurface>,
+}
+
+/// `influence_function` of `[body.material]` (the linear peridynamic solid's).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum LpsSurface {
+    /// ω = 1, each particle's force state scaled by one factor from its energy under three
+    /// uniaxial stresses (a bar along its free faces 2-3 % stiff; docs/VALIDATION.md).
+    #[default]
+    Constant,
+    /// Position-aware (Mitchell, Silling & Littlewood 2015): per particle, the weights that
+    /// make its dilatation and strain energy the continuum's under every uniform strain (the
+    /// bar within 1.3 %); not the default: two deformable spheres, an LPS one on a bond-based
+    /// one, did not converge with it (docs/VALIDATION.md, "Any Poisson's ratio").
+    PositionAware,
 }
 
 /// The largest Poisson's ratio the linear peridynamic solid takes (docs/VALIDATION.md, "Any

@@ -8,7 +8,12 @@
 //! force on `i` is `(t_i<ξ> + t_j<−ξ>) M v_c V_j V_i` along the bond `M` (deformed, or the
 //! reference bond linearised). Where the neighbourhood is whole the bulk has the continuum's
 //! E and ν; `m_i` over a particle's actual neighbourhood corrects the dilatation near a
-//! surface in part.
+//! surface in part. The influence function may be position-aware ([`position_aware`]:
+//! per bond a dilatation factor `ω_d` and a deviatoric factor on ω, the force state
+//! `t_i<ξ> = (3ω_d|ξ|/m_i)(kθ_i − 15μ D_i/m_i) + (15μ/m_i) ω e^d`,
+//! `D_i = Σ_j ω e^d |ξ| v_c V_j / 3`, the gradient of `Σ_i V_i W_i`), which makes every
+//! particle's energy the continuum's under a uniform strain; `constant` (the default) keeps
+//! ω = 1 and scales each particle's state by one factor ([`surface_factors`]).
 //!
 //! At ν = 1/4, `3k = 5μ`: the dilatation drops out and the force is bond-based PD's with a
 //! micromodulus `15μ(1/m_i + 1/m_j)`.
@@ -18,6 +23,7 @@
 //! whole volume in the sums, the particle's held share `V_i` on its force (as the bond-based
 //! pass, [`crate::case::pairs`]); a mirror image takes its source's `m` and `θ`.
 
+pub mod position_aware;
 mod skin;
 
 use std::ops::Range;
@@ -45,14 +51,23 @@ pub struct Lps {
     /// Per real particle: the weighted volume `m_i`.
     pub weighted_volume: Vec<f64>,
     /// Per real particle: the surface correction `g_i` that scales its force state
-    /// ([`surface_factors`]); 1 in the bulk.
+    /// ([`surface_factors`]); 1 in the bulk, and everywhere in the position-aware LPS.
     pub correction: Vec<f64>,
-    /// The skin correction ([`skin`]): per directed bond `i → j`, the factor `s_i(ξ)` of its
-    /// deviatoric weight in particle `i`'s state and `s_j(−ξ)` in `j`'s (empty: none).
-    pub skin_own: Vec<f64>,
-    pub skin_partner: Vec<f64>,
-    /// Per real particle: `m^s_i = Σ_j ω s_i |ξ|² v_c V_j` (empty without the skin correction).
-    skin_moment: Vec<f64>,
+    /// Whether the influence functions are the position-aware ones ([`position_aware`]).
+    pub position_aware: bool,
+    /// Whether the skin correction ([`skin`]) is in the deviatoric weights.
+    pub skin: bool,
+    /// Per directed bond `i → j`: the factor of its dilatation weight in particle `i`'s state
+    /// and of `j → i` in `j`'s ([`position_aware`]; empty: 1).
+    dilatation_own: Vec<f64>,
+    dilatation_partner: Vec<f64>,
+    /// Per directed bond `i → j`: the factor of its deviatoric weight in `i`'s state and of
+    /// `j → i` in `j`'s (the position-aware weight times the skin's `s_i(ξ)`; empty: 1).
+    deviatoric_own: Vec<f64>,
+    deviatoric_partner: Vec<f64>,
+    /// Per real particle: `m^s_i = Σ_j ω s_i |ξ|² v_c V_j` with the deviatoric factors (empty
+    /// where they are 1).
+    deviatoric_moment: Vec<f64>,
     /// Per real particle: the dilatation of the last pass (scratch).
     dilatation: Vec<f64>,
     /// Per real particle: `D_i = Σ_j ω s_i e^d |ξ| v_c V_j / 3` of the last pass, which the
@@ -75,8 +90,10 @@ pub enum Stretch<'a> {
 }
 
 impl Lps {
-    /// The LPS of case `case` for Young's modulus `youngs` and Poisson's ratio `poisson`.
-    pub fn new(case: &PdCase, youngs: f64, poisson: f64) -> Lps {
+    /// The LPS of case `case` for Young's modulus `youngs` and Poisson's ratio `poisson`,
+    /// its surface effect corrected by the position-aware influence functions
+    /// ([`position_aware`]) or by a factor per particle ([`surface_factors`]).
+    pub fn new(case: &PdCase, youngs: f64, poisson: f64, position_aware: bool) -> Lps {
         let n = case.particles.len();
         let bonds = &case.bonds;
         let partner_vol = case.ghosts.partner_volumes(&case.particles.volume);
@@ -108,20 +125,65 @@ impl Lps {
             bond_volume,
             weighted_volume,
             correction: vec![1.0; n],
-            skin_own: Vec::new(),
-            skin_partner: Vec::new(),
-            skin_moment: Vec::new(),
+            position_aware,
+            skin: false,
+            dilatation_own: Vec::new(),
+            dilatation_partner: Vec::new(),
+            deviatoric_own: Vec::new(),
+            deviatoric_partner: Vec::new(),
+            deviatoric_moment: Vec::new(),
             dilatation: vec![0.0; n],
             deviation: vec![0.0; n],
             state: vec![Vec3::zeros(); n],
             extension: Vec::new(),
         };
-        lps.correction = surface_factors(&lps, case, youngs, poisson);
+        if position_aware {
+            let c = position_aware::coefficients(case, &lps.bond_volume, &lps.weighted_volume);
+            let [d_own, d_partner, v_own, v_partner] = position_aware::bond_weights(case, &c);
+            lps.dilatation_own = d_own;
+            lps.dilatation_partner = d_partner;
+            lps.set_deviatoric(case, v_own, v_partner);
+        } else {
+            lps.correction = surface_factors(&lps, case, youngs, poisson);
+        }
         lps
     }
 
+    /// Particle `i`'s dilatation factor of directed bond `b` and its partner's (1: none).
+    #[inline]
+    pub fn dilatation_factors(&self, b: usize) -> (f64, f64) {
+        match (self.dilatation_own.get(b), self.dilatation_partner.get(b)) {
+            (Some(&a), Some(&c)) => (a, c),
+            _ => (1.0, 1.0),
+        }
+    }
+
+    /// Particle `i`'s deviatoric factor of directed bond `b` and its partner's (1: none).
+    #[inline]
+    pub fn deviatoric_factors(&self, b: usize) -> (f64, f64) {
+        match (self.deviatoric_own.get(b), self.deviatoric_partner.get(b)) {
+            (Some(&a), Some(&c)) => (a, c),
+            _ => (1.0, 1.0),
+        }
+    }
+
+    /// Sets the deviatoric factors per directed bond, and with them each particle's moment.
+    fn set_deviatoric(&mut self, case: &PdCase, own: Vec<f64>, partner: Vec<f64>) {
+        let bonds = &case.bonds;
+        self.deviatoric_moment = (0..case.particles.len())
+            .map(|i| {
+                bonds
+                    .range(i)
+                    .map(|b| self.bond_volume[b] * own[b] * bonds.length(b).powi(2))
+                    .sum()
+            })
+            .collect();
+        self.deviatoric_own = own;
+        self.deviatoric_partner = partner;
+    }
+
     /// Applies the skin correction ([`skin`]) with factors `k_i` per real particle along
-    /// `normal_i` (1: none).
+    /// `normal_i` (1: none), on top of the deviatoric factors there are.
     pub fn set_skin(&mut self, case: &PdCase, factor: &[f64], normal: &[Vec3]) {
         let n = case.particles.len();
         let bonds = &case.bonds;
@@ -130,8 +192,7 @@ impl Lps {
             .extend_positions(&case.particles.position, &mut x);
         let mut own = Vec::with_capacity(bonds.len());
         let mut partner = Vec::with_capacity(bonds.len());
-        let mut moment = vec![0.0; n];
-        for (i, m) in moment.iter_mut().enumerate() {
+        for i in 0..n {
             for b in bonds.range(i) {
                 let j = bonds.partner[b] as usize;
                 let l = bonds.length(b);
@@ -148,14 +209,13 @@ impl Lps {
                         mirror_direction(normal[src], mask, &case.ghosts.planes),
                     )
                 };
-                own.push(si);
-                partner.push(1.0 + (sj - 1.0) * dir.dot(&nj).powi(2));
-                *m += self.bond_volume[b] * si * l * l;
+                let (vi, vj) = self.deviatoric_factors(b);
+                own.push(vi * si);
+                partner.push(vj * (1.0 + (sj - 1.0) * dir.dot(&nj).powi(2)));
             }
         }
-        self.skin_own = own;
-        self.skin_partner = partner;
-        self.skin_moment = moment;
+        self.set_deviatoric(case, own, partner);
+        self.skin = true;
     }
 
     /// A stiffness per directed bond (N/m) that bounds the LPS tangent's row as bond-based
@@ -174,15 +234,30 @@ impl Lps {
                 case.ghosts.source[j - n] as usize
             }
         };
-        let reach: Vec<f64> = (0..n)
+        // Per particle, over its bonds c (weights w_c = ω v_c V_c |ξ_c|): S_i = Σ |ω_d,c| w_c and
+        // Y_i = Σ |v_c − ω_d,c m^v_i/m_i| w_c. The state of bond b depends on the extension of
+        // bond c through θ_i (`(9k ω_d,b − 15μ v_b)|ξ_b| ω_d,c w_c / m_i²`) and through D_i
+        // (`15μ ω_d,b |ξ_b| (v_c − ω_d,c m^v/m) w_c / m_i²`); with every factor 1 the second
+        // vanishes and the first is `3(3k − 5μ)|ξ| S_i/m_i²`.
+        let sums: Vec<(f64, f64)> = (0..n)
             .map(|i| {
-                bonds
-                    .range(i)
-                    .map(|b| self.bond_volume[b] * bonds.length(b))
-                    .sum()
+                let m = self.weighted_volume[i];
+                let ratio = match self.deviatoric_moment.get(i) {
+                    Some(&mv) if m > 0.0 => mv / m,
+                    _ => 1.0,
+                };
+                bonds.range(i).fold((0.0, 0.0), |(s, y), c| {
+                    let w = self.bond_volume[c] * bonds.length(c);
+                    let d = self.dilatation_factors(c).0;
+                    let v = self.deviatoric_factors(c).0;
+                    (s + d.abs() * w, y + (v - d * ratio).abs() * w)
+                })
             })
             .collect();
-        let coupling = 3.0 * (3.0 * self.bulk - 5.0 * self.shear).abs();
+        let (k, mu) = (self.bulk, self.shear);
+        let coupling = |d: f64, v: f64, (s, y): (f64, f64), m: f64| {
+            ((9.0 * k * d - 15.0 * mu * v).abs() * s + 15.0 * mu * d.abs() * y) / (m * m)
+        };
         let mut out = Vec::with_capacity(bonds.len());
         for i in 0..n {
             let mi = self.weighted_volume[i];
@@ -191,14 +266,11 @@ impl Lps {
                 let mj = self.weighted_volume[j];
                 let vv = self.bond_volume[b] * vol[i];
                 let (gi, gj) = (self.correction[i], self.correction[j]);
-                let (si, sj) = match (self.skin_own.get(b), self.skin_partner.get(b)) {
-                    (Some(&a), Some(&c)) => (a, c),
-                    _ => (1.0, 1.0),
-                };
-                let deviatoric = 15.0 * self.shear * (gi * si / mi + gj * sj / mj);
-                let dilatation = coupling
-                    * bonds.length(b)
-                    * (gi * reach[i] / (mi * mi) + gj * reach[j] / (mj * mj));
+                let (si, sj) = self.deviatoric_factors(b);
+                let (di, dj) = self.dilatation_factors(b);
+                let deviatoric = 15.0 * self.shear * (gi * si.abs() / mi + gj * sj.abs() / mj);
+                let dilatation = bonds.length(b)
+                    * (gi * coupling(di, si, sums[i], mi) + gj * coupling(dj, sj, sums[j], mj));
                 out.push(vv * (deviatoric + dilatation));
             }
         }
@@ -275,8 +347,14 @@ impl Lps {
         let n = case.particles.len();
         let bonds = &case.bonds;
         let (bv, m) = (&self.bond_volume, &self.weighted_volume);
-        let (s_own, s_partner, ms) = (&self.skin_own, &self.skin_partner, &self.skin_moment);
-        let skin = !s_own.is_empty();
+        let (v_own, v_partner, mv) = (
+            &self.deviatoric_own,
+            &self.deviatoric_partner,
+            &self.deviatoric_moment,
+        );
+        let (d_own, d_partner) = (&self.dilatation_own, &self.dilatation_partner);
+        let weighted = !v_own.is_empty();
+        let dilated = !d_own.is_empty();
         // Each bond's extension, kept for the second pass.
         self.extension.resize(bonds.len(), 0.0);
         bonds
@@ -290,28 +368,32 @@ impl Lps {
                     if !own.contains(&i) {
                         continue;
                     }
-                    let (mut sum, mut skinned) = (0.0, 0.0);
+                    let (mut sum, mut deviatoric) = (0.0, 0.0);
                     for b in bonds.range(i) {
                         let l = bonds.length(b);
                         let e = bond(i, bonds.partner[b] as usize, l);
                         ext[b - first] = e;
-                        sum += bv[b] * l * e;
-                        if skin {
-                            skinned += bv[b] * s_own[b] * l * e;
+                        let w = bv[b] * l * e;
+                        sum += if dilated { w * d_own[b] } else { w };
+                        if weighted {
+                            deviatoric += w * v_own[b];
                         }
                     }
                     *t = if m[i] > 0.0 { 3.0 * sum / m[i] } else { 0.0 };
-                    // D_i = Σ ω s e^d |ξ| V / 3, which vanishes where s = 1 (Σ ω e|ξ|V = mθ/3).
-                    *d = if skin {
-                        (skinned - *t * ms[i] / 3.0) / 3.0
+                    // D_i = Σ ω v e^d |ξ| V / 3, which vanishes where v = 1 and the dilatation's
+                    // weights are 1 (Σ ω e|ξ|V = mθ/3); position-aware dilatation weights
+                    // come with deviatoric ones.
+                    *d = if weighted {
+                        (deviatoric - *t * mv[i] / 3.0) / 3.0
                     } else {
                         0.0
                     };
                 }
             });
-        // t_i<ξ> = g_i ((3|ξ|/m_i)(kθ_i − 15μ D_i/m_i) + (15μ/m_i) s (e − θ_i|ξ|/3)), which
-        // is ((3k − 5μ)θ|ξ| + 15μ e)/m where s = 1: per particle `t = a|ξ| + b s (e − c|ξ|)`,
-        // its three constants computed once a pass rather than at each of its bonds.
+        // t_i<ξ> = g_i ((3 ω_d|ξ|/m_i)(kθ_i − 15μ D_i/m_i) + (15μ/m_i) v (e − θ_i|ξ|/3)), which
+        // is ((3k − 5μ)θ|ξ| + 15μ e)/m where the factors are 1: per particle
+        // `t = a ω_d|ξ| + b v (e − c|ξ|)`, its three constants computed once a pass rather
+        // than at each of its bonds.
         let (k, mu) = (self.bulk, self.shear);
         let g = &self.correction;
         let (theta, deviation) = (&self.dilatation, &self.deviation);
@@ -359,13 +441,19 @@ impl Lps {
                     let j = bonds.partner[b] as usize;
                     let e = extension[b];
                     let dir = direction(i, j, l);
-                    let (si, sj) = if skin {
-                        (s_own[b], s_partner[b])
+                    let (vi, vj) = if weighted {
+                        (v_own[b], v_partner[b])
+                    } else {
+                        (1.0, 1.0)
+                    };
+                    let (di, dj) = if dilated {
+                        (d_own[b], d_partner[b])
                     } else {
                         (1.0, 1.0)
                     };
                     let [aj, bj, cj] = state[source(j)].into();
-                    let t = ai * l + bi * si * (e - ci * l) + aj * l + bj * sj * (e - cj * l);
+                    let t =
+                        ai * di * l + bi * vi * (e - ci * l) + aj * dj * l + bj * vj * (e - cj * l);
                     f += dir * (t * bv[b]);
                 }
                 finish(i, f * vol[i], o);
@@ -387,8 +475,8 @@ impl Lps {
             let l = bonds.length(b);
             let e = extension(stretch, pos, i, bonds.partner[b] as usize, l);
             let ed = e - theta * l / 3.0;
-            let s = self.skin_own.get(b).copied().unwrap_or(1.0);
-            dev += self.bond_volume[b] * s * ed * ed;
+            let v = self.deviatoric_factors(b).0;
+            dev += self.bond_volume[b] * v * ed * ed;
         }
         self.correction[i]
             * case.particles.volume[i]

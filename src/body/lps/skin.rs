@@ -14,7 +14,6 @@
 //! is linear in `k_i`, so one solve; with the neighbours' factors, iterated, the factors move
 //! by 5 % and the Hertz sphere by 0.1 points).
 
-use nalgebra::Matrix3;
 use rayon::prelude::*;
 
 use super::Lps;
@@ -31,6 +30,29 @@ pub const TRACTION_SHARE: f64 = 1.0;
 /// out 10-30, most where ν is large.
 const FACTOR_BOUNDS: (f64, f64) = (0.5, 40.0);
 
+/// Particle `j`'s dilatation and `D_j` (the pass's, [`Lps`]) under the uniform strain
+/// `ε f⊗f` (`f` in `j`'s own frame), with its dilatation and deviatoric factors as they are.
+fn uniaxial(lps: &Lps, case: &PdCase, x: &[Vec3], j: usize, f: Vec3, eps: f64) -> (f64, f64) {
+    let bonds = &case.bonds;
+    let m = lps.weighted_volume[j];
+    if !(m > 0.0) {
+        return (0.0, 0.0);
+    }
+    let (mut sum, mut dev, mut moment) = (0.0, 0.0, 0.0);
+    for b in bonds.range(j) {
+        let l = bonds.length(b);
+        let c = (x[bonds.partner[b] as usize] - x[j]).dot(&f) / l;
+        let e = eps * l * c * c;
+        let w = lps.bond_volume[b] * l;
+        sum += w * e * lps.dilatation_factors(b).0;
+        let v = lps.deviatoric_factors(b).0;
+        dev += w * e * v;
+        moment += w * l * v;
+    }
+    let theta = 3.0 * sum / m;
+    (theta, (dev - theta * moment / 3.0) / 3.0)
+}
+
 /// Per real particle: the factor `k_i` (1 where none) and the normal it acts along.
 pub fn skin_factors(lps: &Lps, case: &PdCase) -> (Vec<f64>, Vec<Vec3>) {
     let n = case.particles.len();
@@ -40,17 +62,6 @@ pub fn skin_factors(lps: &Lps, case: &PdCase) -> (Vec<f64>, Vec<Vec3>) {
         .extend_positions(&case.particles.position, &mut x);
     let (m, bv, g) = (&lps.weighted_volume, &lps.bond_volume, &lps.correction);
     let (kb, mu) = (lps.bulk, lps.shear);
-    // Second moments Q_j = Σ_l ω v_c V_l ξ ξᵀ (θ_j under ε n⊗n is 3ε nᵀQ_j n / m_j).
-    let moments: Vec<Matrix3<f64>> = (0..n)
-        .into_par_iter()
-        .map(|j| {
-            bonds.range(j).fold(Matrix3::zeros(), |q, b| {
-                let xi = x[bonds.partner[b] as usize] - x[j];
-                q + xi * xi.transpose() * bv[b]
-            })
-        })
-        .collect();
-    let quad = |q: &Matrix3<f64>, v: Vec3| v.dot(&(q * v));
     let normal = &case.surface.normal;
     let area = &case.segments.pressure_area;
     let sigma = kb + 4.0 * mu / 3.0;
@@ -63,16 +74,23 @@ pub fn skin_factors(lps: &Lps, case: &PdCase) -> (Vec<f64>, Vec<Vec3>) {
             let nrm = normal[i];
             let eps = 1.0;
             let mi = m[i];
-            let theta_i = 3.0 * eps * quad(&moments[i], nrm) / mi;
+            let (theta_i, dev_i) = uniaxial(lps, case, &x, i, nrm, eps);
             // d_i: D_i per unit (k_i − 1).
             let mut d = 0.0;
             for b in bonds.range(i) {
                 let l = bonds.length(b);
                 let dir = (x[bonds.partner[b] as usize] - x[i]) / l;
                 let c2 = dir.dot(&nrm).powi(2);
-                d += bv[b] * c2 * (eps * l * c2 * l - theta_i * l * l / 3.0);
+                let v = lps.deviatoric_factors(b).0;
+                d += bv[b] * v * c2 * (eps * l * c2 * l - theta_i * l * l / 3.0);
             }
             d /= 3.0;
+            // The force state `g((3 ω_d|ξ|/m)(kθ − 15μD/m) + (15μ/m) v (e − θ|ξ|/3))`.
+            let state =
+                |gm: f64, m: f64, theta: f64, dev: f64, w_d: f64, v: f64, l: f64, e: f64| {
+                    gm * (3.0 * w_d * l / m * (kb * theta - 15.0 * mu * dev / m)
+                        + 15.0 * mu / m * v * (e - theta * l / 3.0))
+                };
             // f_i·n = a + (k_i − 1) b, per unit volume V_i.
             let (mut a, mut slope) = (0.0, 0.0);
             for b in bonds.range(i) {
@@ -81,7 +99,7 @@ pub fn skin_factors(lps: &Lps, case: &PdCase) -> (Vec<f64>, Vec<Vec3>) {
                 let dir = (x[p] - x[i]) / l;
                 let c = dir.dot(&nrm);
                 let e = eps * l * c * c;
-                // The partner's θ in its own frame (a mirror image's field is mirrored).
+                // The partner's state in its own frame (a mirror image's field is mirrored).
                 let (j, field_j) = if p < n {
                     (p, nrm)
                 } else {
@@ -92,16 +110,18 @@ pub fn skin_factors(lps: &Lps, case: &PdCase) -> (Vec<f64>, Vec<Vec3>) {
                         mirror_direction(nrm, mask, &case.ghosts.planes),
                     )
                 };
-                let t_i = g[i] * ((3.0 * kb - 5.0 * mu) * theta_i * l + 15.0 * mu * e) / mi;
+                let (di, dj) = lps.dilatation_factors(b);
+                let (vi, vj) = lps.deviatoric_factors(b);
+                let t_i = state(g[i], mi, theta_i, dev_i, di, vi, l, e);
                 let t_j = if m[j] > 0.0 {
-                    let theta_j = 3.0 * eps * quad(&moments[j], field_j) / m[j];
-                    g[j] * ((3.0 * kb - 5.0 * mu) * theta_j * l + 15.0 * mu * e) / m[j]
+                    let (theta_j, dev_j) = uniaxial(lps, case, &x, j, field_j, eps);
+                    state(g[j], m[j], theta_j, dev_j, dj, vj, l, e)
                 } else {
                     0.0
                 };
                 let dt_i = g[i]
-                    * (-3.0 * l / mi * 15.0 * mu * d / mi
-                        + 15.0 * mu / mi * c * c * (e - theta_i * l / 3.0));
+                    * (-3.0 * di * l / mi * 15.0 * mu * d / mi
+                        + 15.0 * mu / mi * vi * c * c * (e - theta_i * l / 3.0));
                 a += (t_i + t_j) * c * bv[b];
                 slope += dt_i * c * bv[b];
             }
