@@ -184,9 +184,19 @@ fn the_static_solver_and_any_thread_count_give_the_same_bar() {
 /// particles) on a rigid plane, LPS at ν = 0.3 and 0.4, with and without the skin correction
 /// (docs/VALIDATION.md, "Any Poisson's ratio"): (MRE, radius error, peak error).
 fn cap(poisson: f64, skin: bool) -> (f64, f64, f64) {
+    let model = run(&cap_scene(poisson, skin));
+    let load = 4.8e6;
+    let (a, p0) = hertz_sphere(load, 1.0, e_star_rigid(YOUNGS, poisson));
+    let patch = contact_patch(&model, 0, None).expect("in contact");
+    let acc = elliptic_accuracy(&patch, a, p0);
+    (acc.mre, acc.radius_error, patch.peak / p0 - 1.0)
+}
+
+/// The cap's scene.
+fn cap_scene(poisson: f64, skin: bool) -> String {
     let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/sphere_cap_quarter_tet4.msh");
     let load = 4.8e6;
-    let text = format!(
+    format!(
         r#"[solver]
 kind = "adr"
 tolerance = 1e-4
@@ -224,12 +234,7 @@ axis = "y"
 "#,
         mesh = mesh.display().to_string(),
         quarter = -load / 4.0,
-    );
-    let model = run(&text);
-    let (a, p0) = hertz_sphere(load, 1.0, e_star_rigid(YOUNGS, poisson));
-    let patch = contact_patch(&model, 0, None).expect("in contact");
-    let acc = elliptic_accuracy(&patch, a, p0);
-    (acc.mre, acc.radius_error, patch.peak / p0 - 1.0)
+    )
 }
 
 /// Measured (ADR, the 2-core VM, 7 s for the four runs): ν = 0.3: MRE 2.52 %, radius +1.05 %,
@@ -320,5 +325,70 @@ fn the_position_aware_lps_has_the_continuums_energy_under_any_uniform_strain() {
         } else {
             assert!(exact < 0.01 && mean > 1e-3, "{influence}: {exact}, {mean}");
         }
+    }
+}
+
+/// The LPS pass is the gradient of an energy (the static solver's symmetric tangent, ADR's
+/// convergence, rely on it): with small kinematics it is linear, `f = −K u`, and
+/// `w·f(u) = u·f(w)` for any two displacements, with each influence function, and with the skin
+/// correction (the cap, in a contact). Without its symmetry planes: a particle on one holds
+/// part of its volume and its partners count the whole, which weights the rows.
+#[test]
+fn the_lps_tangent_is_symmetric() {
+    for influence in ["constant", "position-aware"] {
+        let text = cap_scene(0.3, true);
+        let text = text[..text.find("[[symmetry]]").expect("planes")].replace(
+            "model = \"lps\"",
+            &format!("model = \"lps\"\ninfluence_function = \"{influence}\""),
+        );
+        let scene = Scene::parse(&text, "scene.toml", Path::new(".")).expect("scene");
+        let model = Model::from_scene(&scene).expect("builds");
+        let pd = model.bodies[0].as_pd().expect("deformable");
+        let case = &pd.case;
+        let mut lps = pd.lps.clone().expect("an LPS body");
+        assert!(lps.skin, "the cap is in a contact");
+        let n = pd.len();
+        let mut reference = Vec::new();
+        case.ghosts
+            .extend_positions(&case.particles.position, &mut reference);
+        // Two smooth displacement fields, not uniform strains.
+        let field = |k: f64| -> Vec<nalgebra::Vector3<f64>> {
+            case.particles
+                .position
+                .iter()
+                .map(|x| {
+                    1e-4 * nalgebra::Vector3::new(
+                        (k * x.y + 1.0).sin(),
+                        (k * x.z * x.x).cos(),
+                        (k * x.x + 2.0 * x.y).sin(),
+                    )
+                })
+                .collect()
+        };
+        let mut force = |u: &[nalgebra::Vector3<f64>]| {
+            let real: Vec<_> = (0..n).map(|i| case.particles.position[i] + u[i]).collect();
+            let mut pos = Vec::new();
+            case.ghosts.extend_positions(&real, &mut pos);
+            let mut f = vec![nalgebra::Vector3::zeros(); n];
+            lps.forces(case, &pos, Stretch::Small(&reference), &mut f, |_, g, o| {
+                *o = g
+            });
+            f
+        };
+        let (u, w) = (field(7.0), field(11.0));
+        let (fu, fw) = (force(&u), force(&w));
+        let dot = |a: &[nalgebra::Vector3<f64>], b: &[nalgebra::Vector3<f64>]| {
+            a.iter().zip(b).map(|(x, y)| x.dot(y)).sum::<f64>()
+        };
+        let (wfu, ufw) = (dot(&w, &fu), dot(&u, &fw));
+        let scale = dot(&u, &fu).abs().max(dot(&w, &fw).abs());
+        eprintln!(
+            "{influence}: w·f(u) {wfu:.6e}, u·f(w) {ufw:.6e}, u·f(u) {:.6e}",
+            dot(&u, &fu)
+        );
+        assert!(
+            (wfu - ufw).abs() < 1e-9 * scale,
+            "{influence}: {wfu} against {ufw}"
+        );
     }
 }
