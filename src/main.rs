@@ -145,6 +145,11 @@ enum Command {
         /// model at ν = 0.25 (docs/VALIDATION.md, "Any Poisson's ratio").
         #[arg(long, value_name = "NU", requires = "mesh")]
         poisson: Option<f64>,
+        /// With --poisson: the linear peridynamic solid's influence function
+        /// (`influence_function` in `[body.material]`; docs/VALIDATION.md, "Any Poisson's
+        /// ratio").
+        #[arg(long, value_enum, requires = "poisson")]
+        influence: Option<InfluenceArg>,
         /// Output folder (one subfolder per run).
         #[arg(short, long, default_value = "pdcontact-validate")]
         output: PathBuf,
@@ -263,6 +268,15 @@ enum SolverArg {
     Adr,
     /// Newton-Raphson with a matrix-free tangent.
     Static,
+}
+
+/// `validate --influence`: the LPS's influence function.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum InfluenceArg {
+    /// ω = 1, a factor per particle (the default).
+    Constant,
+    /// Position-aware: each particle's energy the continuum's under any uniform strain.
+    PositionAware,
 }
 
 /// `validate --partner`: what the mesh is pressed on.
@@ -458,6 +472,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             solver,
             partner,
             poisson,
+            influence,
             output,
             json,
             quiet,
@@ -490,6 +505,12 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                         skin_correction,
                         static_solver,
                         poisson,
+                        influence: influence.map(|i| match i {
+                            InfluenceArg::Constant => pdcontact::scene::LpsSurface::Constant,
+                            InfluenceArg::PositionAware => {
+                                pdcontact::scene::LpsSurface::PositionAware
+                            }
+                        }),
                         partner: match partner {
                             PartnerArg::Plane => pdcontact::studies::user_mesh::Partner::Plane,
                             PartnerArg::Copy => pdcontact::studies::user_mesh::Partner::Copy,

@@ -33,6 +33,7 @@ use crate::error::{Error, Result};
 use crate::importers::Format;
 use crate::math::Vec3;
 use crate::output::analysis::e_star_rigid;
+use crate::scene::LpsSurface;
 use crate::studies::comparison::{run_case, ValidationRow};
 use crate::studies::scenarios::{
     Problem, Reference, Set, ValidationCase, DENSITY, POISSON, YOUNGS,
@@ -169,6 +170,8 @@ pub struct BodyChoices {
     /// Poisson's ratio of a linear peridynamic solid (`model = "lps"`); `None`: the
     /// bond-based model at ν = 1/4.
     pub poisson: Option<f64>,
+    /// The LPS's influence function (`None`: the default).
+    pub influence: Option<LpsSurface>,
     /// What the body is pressed on: a rigid plane, or a copy of itself.
     pub partner: Partner,
     /// Where the contact spans fewer than [`MIN_CONTACT_SPACINGS`] spacings, also run the body
@@ -187,6 +190,7 @@ impl Default for BodyChoices {
             skin_correction: true,
             static_solver: false,
             poisson: None,
+            influence: None,
             partner: Partner::Plane,
             compare: false,
         }
@@ -317,10 +321,16 @@ pub fn mesh_case(
     } else {
         "skin_correction = false         # the balanced correction alone: a softer surface row (docs/VALIDATION.md)\n"
     };
-    let model_line = if body.poisson.is_some() {
-        "model = \"lps\"               # the linear peridynamic solid: any Poisson's ratio\n"
-    } else {
-        ""
+    let model_line = match (body.poisson, body.influence) {
+        (None, _) => String::new(),
+        (Some(_), influence) => format!(
+            "model = \"lps\"               # the linear peridynamic solid: any Poisson's ratio\n{}",
+            match influence {
+                Some(LpsSurface::PositionAware) => "influence_function = \"position-aware\"\n",
+                Some(LpsSurface::Constant) => "influence_function = \"constant\"\n",
+                None => "",
+            }
+        ),
     };
     let load_note = match problem {
         Problem::Roller => format!("P = {} N/m over the length", num(load)),
