@@ -311,25 +311,27 @@ fn static_solver_refuses_to_run_on_ranks() {
     );
 }
 
-/// An LPS body (the demo at ν = 0.3) on 3 ranks: between its two sweeps each rank sends its
-/// particles' force states to the ranks that hold them as ghosts, so every particle's
-/// dilatation and force is one process's sum: the converged state and the frames (the
-/// recovered `stress` among them) have the same bits.
+/// An LPS body (the demo at ν = 0.3) on 3 ranks, with either influence function: between its
+/// two sweeps each rank sends its particles' force states to the ranks that hold them as
+/// ghosts, so every particle's dilatation and force is one process's sum: the converged state
+/// and the frames (the recovered `stress` among them) have the same bits.
 #[test]
 fn lps_on_three_ranks() {
-    let dir = temp_dir("lps");
-    write_demo(&dir);
-    let scene = std::fs::read_to_string(dir.join("scene.toml")).expect("scene");
-    assert!(scene.contains("poisson_ratio = 0.25"), "{scene}");
-    let scene = scene.replacen(
-        "poisson_ratio = 0.25",
-        "poisson_ratio = 0.3\nmodel = \"lps\"",
-        1,
-    );
-    let path = dir.join("lps.toml");
-    std::fs::write(&path, scene).expect("written");
-    let (a, b) = both(&path, 3);
-    assert_identical(&a, &b);
-    let (one, many) = (dir.join("one"), dir.join("many"));
-    common::check_vtk(&["same".as_ref(), one.as_os_str(), many.as_os_str()]);
+    for influence in ["constant", "position-aware"] {
+        let dir = temp_dir(&format!("lps-{influence}"));
+        write_demo(&dir);
+        let scene = std::fs::read_to_string(dir.join("scene.toml")).expect("scene");
+        assert!(scene.contains("poisson_ratio = 0.25"), "{scene}");
+        let scene = scene.replacen(
+            "poisson_ratio = 0.25",
+            &format!("poisson_ratio = 0.3\nmodel = \"lps\"\ninfluence_function = \"{influence}\""),
+            1,
+        );
+        let path = dir.join("lps.toml");
+        std::fs::write(&path, scene).expect("written");
+        let (a, b) = both(&path, 3);
+        assert_identical(&a, &b);
+        let (one, many) = (dir.join("one"), dir.join("many"));
+        common::check_vtk(&["same".as_ref(), one.as_os_str(), many.as_os_str()]);
+    }
 }
