@@ -506,9 +506,9 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                         static_solver,
                         poisson,
                         influence: influence.map(|i| match i {
-                            InfluenceArg::Constant => pdcontact::scene::LpsSurface::Constant,
+                            InfluenceArg::Constant => pdcontact::scene::InfluenceFunction::Constant,
                             InfluenceArg::PositionAware => {
-                                pdcontact::scene::LpsSurface::PositionAware
+                                pdcontact::scene::InfluenceFunction::PositionAware
                             }
                         }),
                         partner: match partner {

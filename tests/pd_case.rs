@@ -91,7 +91,7 @@ fn corrected_energy_density_under_uniaxial_strain() {
             poisson: 0.25,
             density: 1000.0,
             model: MaterialModel::BondBased,
-            lps_surface: Default::default(),
+            influence: Default::default(),
         },
     );
     let eps = 1e-4;

@@ -387,7 +387,7 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                     poisson: m.poisson_ratio,
                     density: m.density,
                     model: m.model,
-                    lps_surface: m.influence_function.unwrap_or_default(),
+                    influence: m.influence_function.unwrap_or_default(),
                 },
             );
             body.kinematics = spec.kinematics;
@@ -417,7 +417,7 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                     poisson: m.poisson_ratio,
                     density: m.density,
                     model: m.model,
-                    lps_surface: m.influence_function.unwrap_or_default(),
+                    influence: m.influence_function.unwrap_or_default(),
                 }),
                 motion: spec.motion,
                 velocity: Vec3::from(spec.motion_velocity.unwrap_or([0.0; 3])),

@@ -21,7 +21,7 @@ use crate::case::pairs::{ForceBuffers, PairList};
 use crate::case::segments::MasterSegment;
 use crate::case::PdCase;
 use crate::math::Vec3;
-use crate::scene::{Kinematics, LpsSurface, MaterialModel, Motion};
+use crate::scene::{InfluenceFunction, Kinematics, MaterialModel, Motion};
 
 /// Linear elastic material.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,8 +31,8 @@ pub struct Material {
     pub density: f64,
     /// Bond-based or the linear peridynamic solid.
     pub model: MaterialModel,
-    /// The linear peridynamic solid's surface correction.
-    pub lps_surface: LpsSurface,
+    /// The linear peridynamic solid's influence function.
+    pub influence: InfluenceFunction,
 }
 
 impl Material {
@@ -169,7 +169,7 @@ impl PdBody {
         let mut bond_weight = Vec::with_capacity(bonds.len());
         let mut stiffness = vec![0.0; n];
         let lps = (material.model == MaterialModel::Lps).then(|| {
-            let position_aware = material.lps_surface == LpsSurface::PositionAware;
+            let position_aware = material.influence == InfluenceFunction::PositionAware;
             let mut lps = Lps::new(&case, material.youngs, material.poisson, position_aware);
             // `skin_correction` (on by default) asks for the LPS's own ([`lps::skin_factors`]).
             if case.skin.is_some() {

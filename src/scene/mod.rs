@@ -294,13 +294,13 @@ pub struct MaterialSpec {
     pub model: MaterialModel,
     /// The linear peridynamic solid's influence function (constant by default), which is how
     /// it corrects its surface effect; `model = "lps"` only.
-    pub influence_function: Option<LpsSurface>,
+    pub influence_function: Option<InfluenceFunction>,
 }
 
 /// `influence_function` of `[body.material]` (the linear peridynamic solid's).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
-pub enum LpsSurface {
+pub enum InfluenceFunction {
     /// ω = 1, each particle's force state scaled by one factor from its energy under three
     /// uniaxial stresses (a bar along its free faces 2-3 % stiff; docs/VALIDATION.md).
     #[default]

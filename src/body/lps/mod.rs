@@ -53,8 +53,6 @@ pub struct Lps {
     /// Per real particle: the surface correction `g_i` that scales its force state
     /// ([`surface_factors`]); 1 in the bulk, and everywhere in the position-aware LPS.
     pub correction: Vec<f64>,
-    /// Whether the influence functions are the position-aware ones ([`position_aware`]).
-    pub position_aware: bool,
     /// Whether the skin correction ([`skin`]) is in the deviatoric weights.
     pub skin: bool,
     /// Per directed bond `i → j`: the factor of its dilatation weight in particle `i`'s state
@@ -125,7 +123,6 @@ impl Lps {
             bond_volume,
             weighted_volume,
             correction: vec![1.0; n],
-            position_aware,
             skin: false,
             dilatation_own: Vec::new(),
             dilatation_partner: Vec::new(),

@@ -33,7 +33,7 @@ use crate::error::{Error, Result};
 use crate::importers::Format;
 use crate::math::Vec3;
 use crate::output::analysis::e_star_rigid;
-use crate::scene::LpsSurface;
+use crate::scene::InfluenceFunction;
 use crate::studies::comparison::{run_case, ValidationRow};
 use crate::studies::scenarios::{
     Problem, Reference, Set, ValidationCase, DENSITY, POISSON, YOUNGS,
@@ -171,7 +171,7 @@ pub struct BodyChoices {
     /// bond-based model at ν = 1/4.
     pub poisson: Option<f64>,
     /// The LPS's influence function (`None`: the default).
-    pub influence: Option<LpsSurface>,
+    pub influence: Option<InfluenceFunction>,
     /// What the body is pressed on: a rigid plane, or a copy of itself.
     pub partner: Partner,
     /// Where the contact spans fewer than [`MIN_CONTACT_SPACINGS`] spacings, also run the body
@@ -326,8 +326,9 @@ pub fn mesh_case(
         (Some(_), influence) => format!(
             "model = \"lps\"               # the linear peridynamic solid: any Poisson's ratio\n{}",
             match influence {
-                Some(LpsSurface::PositionAware) => "influence_function = \"position-aware\"\n",
-                Some(LpsSurface::Constant) => "influence_function = \"constant\"\n",
+                Some(InfluenceFunction::PositionAware) =>
+                    "influence_function = \"position-aware\"\n",
+                Some(InfluenceFunction::Constant) => "influence_function = \"constant\"\n",
                 None => "",
             }
         ),
