@@ -49,10 +49,7 @@ fn bar(model: &str, poisson: f64) -> (f64, f64, f64) {
 /// The bar's figures by solver `solver`, and its displacements (`influence`: the LPS's
 /// influence function, or "" for the default).
 fn bar_with(model: &str, poisson: f64, influence: &str) -> (f64, f64, f64) {
-    let text = scene(model, poisson, "adr", false).replace(
-        "model = \"lps\"",
-        &format!("model = \"lps\"\ninfluence_function = \"{influence}\""),
-    );
+    let text = common::with_influence(&scene(model, poisson, "adr", false), influence);
     figures(&run(&text)).0
 }
 
@@ -276,10 +273,7 @@ fn the_hertz_cap_with_the_lps() {
 #[test]
 fn the_position_aware_lps_has_the_continuums_energy_under_any_uniform_strain() {
     for (influence, want) in [("position-aware", 0.95), ("constant", 0.0)] {
-        let text = scene("lps", 0.3, "adr", false).replace(
-            "model = \"lps\"",
-            &format!("model = \"lps\"\ninfluence_function = \"{influence}\""),
-        );
+        let text = common::with_influence(&scene("lps", 0.3, "adr", false), influence);
         let scene = Scene::parse(&text, "scene.toml", Path::new(".")).expect("scene");
         let model = Model::from_scene(&scene).expect("builds");
         let pd = model.bodies[0].as_pd().expect("deformable");
@@ -337,9 +331,9 @@ fn the_position_aware_lps_has_the_continuums_energy_under_any_uniform_strain() {
 fn the_lps_tangent_is_symmetric() {
     for influence in ["constant", "position-aware"] {
         let text = cap_scene(0.3, true);
-        let text = text[..text.find("[[symmetry]]").expect("planes")].replace(
-            "model = \"lps\"",
-            &format!("model = \"lps\"\ninfluence_function = \"{influence}\""),
+        let text = common::with_influence(
+            &text[..text.find("[[symmetry]]").expect("planes")],
+            influence,
         );
         let scene = Scene::parse(&text, "scene.toml", Path::new(".")).expect("scene");
         let model = Model::from_scene(&scene).expect("builds");

@@ -124,10 +124,7 @@ fn a_contact_pressure_is_the_loaded_surface_particles_traction() {
 #[test]
 fn a_bar_in_tension_carries_the_applied_stress() {
     let traction = 1e6;
-    let text = bar_scene("lps", 0.3, "small", traction).replace(
-        "model = \"lps\"",
-        "model = \"lps\"\ninfluence_function = \"position-aware\"",
-    );
+    let text = common::with_influence(&bar_scene("lps", 0.3, "small", traction), "position-aware");
     let scene = Scene::parse(&text, "scene.toml", Path::new(".")).expect("scene");
     let options = RunOptions {
         output: None,

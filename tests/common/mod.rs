@@ -101,3 +101,11 @@ axis = "z"
         mesh = mesh.display().to_string(),
     )
 }
+
+/// Scene `text` with its LPS bodies' influence function set to `influence`.
+pub fn with_influence(text: &str, influence: &str) -> String {
+    text.replace(
+        "model = \"lps\"",
+        &format!("model = \"lps\"\ninfluence_function = \"{influence}\""),
+    )
+}
