@@ -160,6 +160,32 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Fracture against LEFM: a notched three-point bend beam (S = 4W, a/W = 0.5) on two rigid
+    /// rollers, broken by a third driven down through the contact; prints the peak load
+    /// against LEFM's and writes the load-displacement chart (docs/FRACTURE.md).
+    Fracture {
+        /// Grid spacing Δ, m (the horizon is 3Δ; the notch is 20 mm deep).
+        #[arg(long, default_value_t = 0.002)]
+        spacing: f64,
+        /// Beam thickness B, m.
+        #[arg(long, default_value_t = 0.008)]
+        thickness: f64,
+        /// The loading roller's travel, m.
+        #[arg(long, default_value_t = 0.0008)]
+        displacement: f64,
+        /// Increments of the travel.
+        #[arg(long, default_value_t = 16)]
+        steps: usize,
+        /// Output folder.
+        #[arg(short, long, default_value = "pdcontact-fracture")]
+        output: PathBuf,
+        /// Print the result as JSON on stdout.
+        #[arg(long)]
+        json: bool,
+        /// No progress on stderr.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Speed against accuracy: the Hertz sphere over a grid of spacings, horizons, contact
     /// methods and solvers; writes sweep.json and speed_accuracy.svg.
     Sweep {
@@ -457,6 +483,37 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             let report = pdcontact::studies::demo::run_demo(&output, &options)?;
             print_report(json, &report, || report.to_text());
             Ok(interrupted(&report.summary))
+        }
+        Command::Fracture {
+            spacing,
+            thickness,
+            displacement,
+            steps,
+            output,
+            json,
+            quiet,
+        } => {
+            for (what, v) in [
+                ("--spacing", spacing),
+                ("--thickness", thickness),
+                ("--displacement", displacement),
+            ] {
+                if !(v > 0.0 && v.is_finite()) {
+                    return Err(Error::input(format!("{what} must be positive, got {v}")));
+                }
+            }
+            if steps == 0 {
+                return Err(Error::input("--steps must be at least 1"));
+            }
+            let beam = pdcontact::studies::fracture::NotchedBeam {
+                spacing,
+                thickness,
+                displacement,
+                steps,
+            };
+            let r = pdcontact::studies::fracture::run_beam(&beam, &output, quiet)?;
+            print_report(json, &r, || r.to_text());
+            Ok(Outcome::Done)
         }
         Command::Validate {
             case,

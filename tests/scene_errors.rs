@@ -579,3 +579,66 @@ fn a_loaded_body_that_nothing_holds_is_refused() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Fracture keys and pre-cracks: what cannot be run is named where it is written.
+#[test]
+fn fracture_errors() {
+    let text = GOOD.replace(
+        "density = 1000.0",
+        "density = 1000.0\nfracture_energy = 100.0\ncritical_stretch = 0.01",
+    );
+    assert_error("both-keys", &text, "critical_stretch", &["not both"]);
+    let text = GOOD.replace(
+        "density = 1000.0",
+        "density = 1000.0\nfracture_energy = -1.0",
+    );
+    assert_error("negative-g0", &text, "fracture_energy", &["positive", "-1"]);
+    let text = GOOD.replace(
+        "density = 1000.0",
+        "density = 1000.0\nmodel = \"lps\"\nfracture_energy = 100.0",
+    );
+    assert_error(
+        "lps-fracture",
+        &text,
+        "fracture_energy",
+        &["bond-based", "lps"],
+    );
+    let crack = |point: &str, normal: &str| {
+        format!(
+            "{GOOD}\n[[precrack]]\nbody = \"block\"\npoint = {point}\nnormal = {normal}\nalong = [0.0, 1.0, 0.0]\nsize = [0.5, 2.0]\n"
+        )
+    };
+    let text = crack("[0.5, 0.5, 0.25]", "[0.0, 1.0, 0.0]");
+    assert_error("parallel", &text, "[[precrack]]", &["along", "parallel"]);
+    let text = crack("[5.0, 0.5, 0.25]", "[1.0, 0.0, 0.0]");
+    assert_error("outside", &text, "[[precrack]]", &["cuts no bond", "block"]);
+    let text = format!(
+        "{}\n[[symmetry]]\nbody = \"block\"\naxis = \"x\"\nat = 0.5\n",
+        crack("[0.5, 0.5, 0.25]", "[1.0, 0.0, 0.0]")
+    );
+    assert_error(
+        "on-symmetry",
+        &text,
+        "[[precrack]]",
+        &["symmetry plane x = 0.5", "cannot open"],
+    );
+    let text = GOOD.replace("size = 3.0 }", "size = 3.0 }\nmotion = \"displacement\"");
+    assert_error(
+        "no-displacement",
+        &text,
+        "name = \"floor\"",
+        &["displacement = [dx, dy, dz]"],
+    );
+    let text = GOOD
+        .replace(
+            "size = 3.0 }",
+            "size = 3.0 }\nmotion = \"displacement\"\ndisplacement = [0.0, 0.0, 0.01]",
+        )
+        .replace("kind = \"adr\"", "kind = \"explicit\"\nend_time = 1e-3");
+    assert_error(
+        "explicit-displacement",
+        &text,
+        "displacement = [",
+        &["kind = \"adr\"", "velocity"],
+    );
+}

@@ -6,6 +6,7 @@
 use nalgebra::{Rotation3, Unit};
 use pdcontact_importers::{boundary_faces, read_path, ElementKind, Format, Mesh};
 
+use super::fracture::{self, Fracture};
 use super::{Body, Material, PdBody, RigidBody};
 use crate::case::correction::CorrectionMethod;
 use crate::case::discretize::mesh_median_edge;
@@ -14,7 +15,7 @@ use crate::case::segments::{quad_area_normal, MasterSegment};
 use crate::case::{CaseOptions, PdCase, SymmetryPlane, DEFAULT_HORIZON_FACTOR, MAX_REFINE};
 use crate::error::{Error, Result};
 use crate::math::{unit, Vec3, NOT_A_PARTICLE};
-use crate::scene::{box_corner, BodyKind, BodySpec, MaterialModel, Scene, Side};
+use crate::scene::{box_corner, BodyKind, BodySpec, MaterialModel, PrecrackSpec, Scene, Side};
 
 /// Loads the mesh of a body spec (file or generator), transformed.
 pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
@@ -391,6 +392,49 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                 },
             );
             body.kinematics = spec.kinematics;
+            let s0 = match (m.fracture_energy, m.critical_stretch) {
+                (Some(g0), _) => Some(fracture::critical_stretch(
+                    g0,
+                    m.youngs_modulus,
+                    m.poisson_ratio,
+                    body.case.horizon,
+                )),
+                (None, s0) => s0,
+            };
+            let precracks: Vec<(usize, &PrecrackSpec)> = scene
+                .precracks
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.body == spec.name)
+                .collect();
+            if s0.is_some() || !precracks.is_empty() {
+                body.enable_fracture(s0);
+            }
+            for (k, c) in precracks {
+                let patch = fracture::CrackPatch::new(
+                    Vec3::from(c.point),
+                    Vec3::from(c.normal),
+                    Vec3::from(c.along),
+                    c.size,
+                );
+                let cut = Fracture::crossing(&body.case.bonds, &body.reference, &patch);
+                if cut.is_empty() {
+                    return Err(scene.block_error(
+                        "[[precrack]]",
+                        k,
+                        format!(
+                            "precrack in \"{}\" cuts no bond: its patch (centre [{}, {}, {}], size [{}, {}]) does not pass between any two of the body's particles; check point, normal and size against where the body is placed",
+                            spec.name,
+                            crate::scene::num(c.point[0]),
+                            crate::scene::num(c.point[1]),
+                            crate::scene::num(c.point[2]),
+                            crate::scene::num(c.size[0]),
+                            crate::scene::num(c.size[1])
+                        ),
+                    ));
+                }
+                body.break_bonds(&cut);
+            }
             if let Some(v) = spec.velocity {
                 body.set_velocity(Vec3::from(v));
             }
@@ -426,6 +470,7 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                 } else {
                     Vec3::z()
                 },
+                displacement: Vec3::from(spec.displacement.unwrap_or([0.0; 3])),
                 mass: spec.mass.unwrap_or(0.0),
                 translation: Vec3::zeros(),
                 axial_speed: 0.0,

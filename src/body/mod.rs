@@ -10,10 +10,12 @@
 //! This module holds the body types; `build.rs` builds them from a scene ([`build_body`]).
 
 mod build;
+pub mod fracture;
 pub mod lps;
 pub mod stress;
 
 pub use build::{body_mesh, build_body, clip_mesh};
+pub use fracture::Fracture;
 pub use lps::Lps;
 
 use crate::case::correction::micromodulus;
@@ -111,6 +113,9 @@ pub struct PdBody {
     /// The particles this process moves: all of them, or one rank's range in a decomposed
     /// run ([`crate::model::domain`]).
     pub owned: std::ops::Range<usize>,
+    /// The bonds' failure state, where bonds may fail or a pre-crack cut some
+    /// ([`fracture`]); `None`: every bond holds for good.
+    pub fracture: Option<Fracture>,
 }
 
 impl PdBody {
@@ -224,6 +229,7 @@ impl PdBody {
             reaction_force: vec![Vec3::zeros(); n],
             contact_stiffness: vec![0.0; n],
             owned: 0..n,
+            fracture: None,
             pairs: PairList::from_bonds(
                 bonds,
                 &bond_weight,
@@ -245,6 +251,31 @@ impl PdBody {
             Kinematics::Small => lps::Stretch::Small(&self.reference),
             Kinematics::Finite => lps::Stretch::Finite,
         }
+    }
+
+    /// Bonds may fail past `critical_stretch` (`None`: only pre-cracks cut them): sets up the
+    /// failure state, once.
+    pub fn enable_fracture(&mut self, critical_stretch: Option<f64>) {
+        if self.fracture.is_none() {
+            self.fracture = Some(Fracture::new(&self.case, critical_stretch));
+        }
+    }
+
+    /// Breaks the bonds `(i, b)` ([`Fracture::break_bonds`]).
+    pub fn break_bonds(&mut self, broken: &[(u32, u32)]) {
+        if let Some(f) = &mut self.fracture {
+            f.break_bonds(
+                &self.case.bonds,
+                broken,
+                &mut self.bond_weight,
+                &mut self.pairs,
+            );
+        }
+    }
+
+    /// Damage of particle `i` (0 where bonds do not fail).
+    pub fn damage(&self, i: usize) -> f64 {
+        self.fracture.as_ref().map_or(0.0, |f| f.damage(i))
     }
 
     /// Sets the velocity of every particle.
@@ -305,6 +336,9 @@ pub struct RigidBody {
     pub velocity: Vec3,
     /// Unit axis (`Motion::Free`).
     pub axis: Vec3,
+    /// The whole prescribed displacement (`Motion::Displacement`), reached at the last load
+    /// increment.
+    pub displacement: Vec3,
     /// Mass (`Motion::Free`, explicit runs).
     pub mass: f64,
     /// Current translation from the reference position.

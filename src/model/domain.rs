@@ -404,6 +404,23 @@ impl Domain {
         out
     }
 
+    /// The bonds `(particle, bond)` that failed on any rank, rank after rank (collective).
+    pub fn all_failed(&self, mine: &[(u32, u32)]) -> Vec<(u32, u32)> {
+        let flat: Vec<f64> = mine
+            .iter()
+            .flat_map(|&(i, b)| [f64::from(i), f64::from(b)])
+            .collect();
+        self.comm
+            .all_gather_varcount(&flat)
+            .into_iter()
+            .flat_map(|part| {
+                part.chunks_exact(2)
+                    .map(|c| (c[0] as u32, c[1] as u32))
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    }
+
     /// Gives every rank the state (displacement, velocity, forces, contact stiffness) of every
     /// particle, from its owner. Collective.
     pub fn gather(&self, bodies: &mut [Body]) {

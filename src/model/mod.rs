@@ -315,11 +315,19 @@ impl Model {
         let domain = &self.domain;
         for (k, (body, pos)) in self.bodies.iter_mut().zip(&mut self.positions).enumerate() {
             match body {
-                Body::Deformable(pd) => internal_forces_with(pd, pos, |v| {
-                    if let Some(d) = domain {
-                        d.share(k, v);
-                    }
-                }),
+                Body::Deformable(pd) => internal_forces_with(
+                    pd,
+                    pos,
+                    |v| {
+                        if let Some(d) = domain {
+                            d.share(k, v);
+                        }
+                    },
+                    |mine| match domain {
+                        Some(d) => d.all_failed(&mine),
+                        None => mine,
+                    },
+                ),
                 Body::Rigid(rb) => {
                     rb.contact_force = Vec3::zeros();
                     rb.contact_stiffness = 0.0;
@@ -404,12 +412,23 @@ impl Model {
 /// Bond forces plus applied loads into `pd.force`; resets contact accumulators. `pos` is
 /// scratch space for the current positions (real particles, then mirror images).
 pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
-    internal_forces_with(pd, pos, |_| {});
+    internal_forces_with(pd, pos, |_| {}, |mine| mine);
 }
 
 /// [`internal_forces`] of the particles `pd.owned`, where `share` gives the ghosts the values
-/// of their owners (a decomposed run: the LPS's force states, between its two sweeps).
-fn internal_forces_with(pd: &mut PdBody, pos: &mut Vec<Vec3>, share: impl FnOnce(&mut [Vec3])) {
+/// of their owners (a decomposed run: the LPS's force states, between its two sweeps) and
+/// `all_failed` gives every rank the bonds that failed on any (collective).
+///
+/// Bonds that pass their critical stretch at these positions fail first ([`Fracture`]): the
+/// forces are those of the bonds that hold.
+///
+/// [`Fracture`]: crate::body::Fracture
+fn internal_forces_with(
+    pd: &mut PdBody,
+    pos: &mut Vec<Vec3>,
+    share: impl FnOnce(&mut [Vec3]),
+    all_failed: impl FnOnce(Vec<(u32, u32)>) -> Vec<(u32, u32)>,
+) {
     let x = &pd.case.particles.position;
     let n = pd.len();
     let ghosts = &pd.case.ghosts;
@@ -422,6 +441,20 @@ fn internal_forces_with(pd: &mut PdBody, pos: &mut Vec<Vec3>, share: impl FnOnce
         *img = ghosts.reflect(real[ghosts.source[g] as usize], ghosts.mask[g]);
     }
     let pos: &[Vec3] = pos;
+    if let Some(fr) = pd
+        .fracture
+        .as_ref()
+        .filter(|f| f.critical_stretch.is_some())
+    {
+        let reference = match pd.kinematics {
+            Kinematics::Small => Some(&pd.reference[..]),
+            Kinematics::Finite => None,
+        };
+        let failed = all_failed(fr.failing(&pd.case.bonds, pos, reference, pd.owned.clone()));
+        if !failed.is_empty() {
+            pd.break_bonds(&failed);
+        }
+    }
     let kinematics = match pd.kinematics {
         Kinematics::Small => PairKinematics::Small(&pd.reference),
         Kinematics::Finite => PairKinematics::Finite,

@@ -457,7 +457,7 @@ fn point_fields(
     let states: Vec<PointState> = (0..at.len()).map(state).collect();
     let column = |c: usize| states.iter().map(|s| s.0[c]).collect::<Vec<Vec3>>();
     let case = &pd.case;
-    vec![
+    let mut fields = vec![
         Field::vector("displacement", column(0)),
         Field::vector("velocity", column(1)),
         Field::vector("force", column(2)),
@@ -491,7 +491,15 @@ fn point_fields(
             "volume",
             at.iter().map(|&i| case.particles.volume[i]).collect(),
         ),
-    ]
+    ];
+    // Where bonds may break: the share of each particle's family volume it has lost.
+    if pd.fracture.is_some() {
+        fields.push(Field::scalar(
+            "damage",
+            at.iter().map(|&i| pd.damage(i)).collect(),
+        ));
+    }
+    fields
 }
 
 /// Progress bar + frames: the monitor of `run` and `demo`.

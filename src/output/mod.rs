@@ -7,8 +7,10 @@
 //! | contact patch, Hertz and Sadowsky references | [`analysis`] |
 //! | contact pressure recovered on the slave surface | [`recovery`] |
 //! | the largest shear below a contact against Hertz's | [`subsurface`] |
+//! | SVG charts (plotters), the load-displacement curve of a displacement-driven run | [`chart`] |
 
 pub mod analysis;
+pub mod chart;
 pub mod frames;
 pub mod recovery;
 pub mod subsurface;

@@ -96,6 +96,9 @@ pub struct RunSummary {
     pub solver: RunStats,
     /// The run was stopped by Ctrl-C or SIGTERM before it ended.
     pub interrupted: bool,
+    /// Bodies whose bonds may fail or were cut by a pre-crack: what broke.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub fracture: Vec<report::FractureReport>,
     /// A run over several MPI ranks: what each owned and received.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub decomposition: Option<Layout>,
@@ -371,11 +374,18 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
             summary: summary_path.clone(),
         },
         interrupted: stats.interrupted,
+        fracture: report::fracture_reports(&model),
         decomposition,
         solver: stats,
         error: error.as_ref().map(ToString::to_string),
     };
     if root {
+        if !summary.solver.increments.is_empty() {
+            crate::output::chart::write_load_displacement(
+                &folder.join(LOAD_DISPLACEMENT_NAME),
+                &summary.solver.increments,
+            )?;
+        }
         write_summary(&summary_path, &summary)?;
     }
     match error {
@@ -383,6 +393,9 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
         None => Ok((model, summary)),
     }
 }
+
+/// The chart of a run under displacement control, in its output folder.
+pub const LOAD_DISPLACEMENT_NAME: &str = "load_displacement.svg";
 
 /// Writes `summary.json` atomically.
 pub fn write_summary(path: &Path, summary: &RunSummary) -> Result<()> {

@@ -138,3 +138,43 @@ pub fn drift_warnings(model: &Model) -> Vec<String> {
     }
     warnings
 }
+
+/// What broke in a body whose bonds may fail or were cut by a pre-crack (`summary.json`).
+#[derive(Clone, Debug, Serialize)]
+pub struct FractureReport {
+    pub body: String,
+    /// `s0` at the body's horizon; absent where only pre-cracks cut bonds.
+    pub critical_stretch: Option<f64>,
+    /// Bonds broken, pre-cracks' included (a real pair once, a bond to a mirror image once).
+    pub broken_bonds: usize,
+    /// Particles with any damage, and the largest damage.
+    pub damaged_particles: usize,
+    pub max_damage: f64,
+    /// Groups of particles held together by intact bonds (a particle with none is one), and
+    /// the sizes of the largest five.
+    pub fragments: usize,
+    pub largest_fragments: Vec<usize>,
+}
+
+/// The [`FractureReport`] of each body with a failure state.
+pub fn fracture_reports(model: &Model) -> Vec<FractureReport> {
+    model
+        .bodies
+        .iter()
+        .filter_map(Body::as_pd)
+        .filter_map(|pd| {
+            let f = pd.fracture.as_ref()?;
+            let damage: Vec<f64> = (0..pd.len()).map(|i| f.damage(i)).collect();
+            let fragments = f.fragments(&pd.case.bonds);
+            Some(FractureReport {
+                body: pd.name.clone(),
+                critical_stretch: f.critical_stretch,
+                broken_bonds: f.broken,
+                damaged_particles: damage.iter().filter(|&&d| d > 0.0).count(),
+                max_damage: damage.iter().copied().fold(0.0, f64::max),
+                fragments: fragments.len(),
+                largest_fragments: fragments.into_iter().take(5).collect(),
+            })
+        })
+        .collect()
+}

@@ -46,6 +46,9 @@ pub struct Scene {
     /// Contact pairs.
     #[serde(rename = "contact", default)]
     pub contacts: Vec<ContactSpec>,
+    /// Cracks made before the run: the bonds that cross them are removed.
+    #[serde(rename = "precrack", default)]
+    pub precracks: Vec<PrecrackSpec>,
     /// Folder that relative paths are resolved against (the scene file's folder).
     #[serde(skip)]
     pub base: PathBuf,
@@ -165,6 +168,10 @@ pub enum Motion {
     Velocity,
     /// Free to translate along `free_axis` under its loads and contact forces.
     Free,
+    /// Quasi-static runs: moved to `displacement` in the solver's `load_steps` equal
+    /// increments, each relaxed to equilibrium (displacement control: the reaction force of
+    /// each increment is reported).
+    Displacement,
 }
 
 /// `[[body]]`.
@@ -234,6 +241,9 @@ pub struct BodySpec {
     pub free_axis: Option<[f64; 3]>,
     /// Rigid bodies with `motion = "free"`: its mass, kg (explicit runs).
     pub mass: Option<f64>,
+    /// Rigid bodies with `motion = "displacement"`: the total displacement, m.
+    #[serde(default, deserialize_with = "three_opt")]
+    pub displacement: Option<[f64; 3]>,
 }
 
 /// A built-in shape.
@@ -295,6 +305,11 @@ pub struct MaterialSpec {
     /// The linear peridynamic solid's influence function (constant by default), which is how
     /// it corrects its surface effect; `model = "lps"` only.
     pub influence_function: Option<InfluenceFunction>,
+    /// Fracture energy G0, J/m²: bonds fail for good past the critical stretch
+    /// `s0 = sqrt(5 G0 / (9 κ δ))` (Silling & Askari 2005; METHOD.md §9). Bond-based only.
+    pub fracture_energy: Option<f64>,
+    /// Instead of `fracture_energy`: the critical stretch s0 itself.
+    pub critical_stretch: Option<f64>,
 }
 
 /// `influence_function` of `[body.material]` (the linear peridynamic solid's).
@@ -355,6 +370,26 @@ pub struct ConstraintSpec {
     pub nearest: Option<[f64; 3]>,
     /// Components held at zero: any of "x", "y", "z".
     pub fix: Vec<Axis>,
+}
+
+/// `[[precrack]]`: a planar crack in a body's reference configuration, a rectangle centred at
+/// `point` in the plane of `normal`, `size[0]` long along `along` and `size[1]` along
+/// `normal × along`. Every bond whose segment crosses it is removed before the run.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PrecrackSpec {
+    pub body: String,
+    /// The patch's centre, m (where the body is placed).
+    #[serde(deserialize_with = "three")]
+    pub point: [f64; 3],
+    /// The crack plane's normal.
+    #[serde(deserialize_with = "three")]
+    pub normal: [f64; 3],
+    /// The direction of the patch's first side (its part along `normal` is dropped).
+    #[serde(deserialize_with = "three")]
+    pub along: [f64; 3],
+    /// Side lengths along `along` and `normal × along`, m.
+    pub size: [f64; 2],
 }
 
 /// `[[symmetry]]`: a symmetry plane `axis = at` of a body.

@@ -6,7 +6,9 @@
 use rayon::prelude::*;
 
 use super::unheld::{PastCheck, EVERY};
-use super::{applied_norm, check_missed, free_factor, full_loads, scale_loads, Monitor, RunStats};
+use super::{
+    applied_norm, check_missed, free_factor, full_loads, scale_loads, Increment, Monitor, RunStats,
+};
 use crate::body::Body;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
@@ -129,12 +131,16 @@ pub fn adr(
     // Without a load or a moving body the equilibrium is the reference state: there is
     // nothing to iterate for, and no force to measure the residual against.
     let driven = model.bodies.iter().any(|b| match b {
-        Body::Rigid(rb) => rb.motion == Motion::Velocity && rb.velocity.norm() > 0.0,
+        Body::Rigid(rb) => match rb.motion {
+            Motion::Velocity => rb.velocity.norm() > 0.0,
+            Motion::Displacement => rb.displacement.norm() > 0.0,
+            Motion::Fixed | Motion::Free => false,
+        },
         Body::Deformable(_) => false,
     });
     if !driven && !(applied_norm(model) > 0.0) {
         return Err(Error::input(
-            "nothing loads the model: an ADR (static) run needs a [[load]] with a non-zero force on a body part that is free to move, or a rigid body with motion = \"velocity\"".to_string(),
+            "nothing loads the model: an ADR (static) run needs a [[load]] with a non-zero force on a body part that is free to move, or a rigid body with motion = \"velocity\" or \"displacement\"".to_string(),
         ));
     }
     let density = bond_density(model);
@@ -151,6 +157,13 @@ pub fn adr(
         if steps > 1 {
             scale_loads(model, &full, scale);
         }
+        for b in &mut model.bodies {
+            if let Body::Rigid(rb) = b {
+                if rb.motion == Motion::Displacement {
+                    rb.translation = rb.displacement * scale;
+                }
+            }
+        }
         model.gather();
         monitor.load_increment(model, scale, n)?;
         n = adr_increment(
@@ -162,6 +175,7 @@ pub fn adr(
             monitor,
             &mut stats,
         )?;
+        record_increment(model, scale, n, &mut stats);
         if !stats.converged || stats.interrupted {
             break;
         }
@@ -169,6 +183,32 @@ pub fn adr(
     model.gather();
     monitor.finish(model, n, n as f64)?;
     Ok(stats)
+}
+
+/// The end of an increment under displacement control, for the load-displacement curve.
+fn record_increment(model: &Model, factor: f64, iteration: usize, stats: &mut RunStats) {
+    let Some(rb) = model.bodies.iter().find_map(|b| match b {
+        Body::Rigid(rb) if rb.motion == Motion::Displacement => Some(rb),
+        _ => None,
+    }) else {
+        return;
+    };
+    let broken_bonds = model
+        .bodies
+        .iter()
+        .filter_map(Body::as_pd)
+        .filter_map(|pd| pd.fracture.as_ref())
+        .map(|f| f.broken)
+        .sum();
+    stats.increments.push(Increment {
+        factor,
+        body: rb.name.clone(),
+        displacement: rb.translation.into(),
+        reaction: rb.contact_force.into(),
+        converged: stats.converged,
+        iteration,
+        broken_bonds,
+    });
 }
 
 /// One ADR relaxation from the current state to equilibrium under the current loads (Eqs.

@@ -267,7 +267,7 @@ pub fn explicit(
                     }
                 }
                 Body::Rigid(rb) => match rb.motion {
-                    Motion::Fixed => {}
+                    Motion::Fixed | Motion::Displacement => {}
                     Motion::Velocity => {
                         // Work done on the system by the driven body over the step.
                         rigid_work += -rb.contact_force.dot(&(rb.velocity * dt));

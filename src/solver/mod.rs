@@ -121,6 +121,27 @@ pub struct RunStats {
     /// Static: the share of the load at the last equilibrium found (1 when converged).
     #[serde(skip_serializing_if = "is_zero_f64")]
     pub load_factor: f64,
+    /// ADR under displacement control (a rigid body with `motion = "displacement"`): the
+    /// state at the end of each increment, the points of a load-displacement curve.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub increments: Vec<Increment>,
+}
+
+/// One load increment's end under displacement control.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct Increment {
+    /// The share of the whole displacement (and of the loads) applied.
+    pub factor: f64,
+    /// The driven body's name and its displacement, m.
+    pub body: String,
+    pub displacement: [f64; 3],
+    /// The contact force on the driven body: the reaction that drives the others, N.
+    pub reaction: [f64; 3],
+    /// Whether the increment relaxed to the tolerance, and its last iteration.
+    pub converged: bool,
+    pub iteration: usize,
+    /// Bonds broken so far, over all bodies.
+    pub broken_bonds: usize,
 }
 
 fn is_zero(n: &usize) -> bool {

@@ -46,6 +46,18 @@ fn supported(model: &Model) -> Result<()> {
         ));
     }
     for b in &model.bodies {
+        if let Some(pd) = b.as_pd() {
+            if pd
+                .fracture
+                .as_ref()
+                .is_some_and(|f| f.critical_stretch.is_some())
+            {
+                return Err(Error::input(format!(
+                    "body \"{}\" has bonds that may fail (fracture_energy or critical_stretch), and the static solver's tangent assumes bonds that hold: use kind = \"adr\" (with a rigid body under motion = \"displacement\" for a load-displacement curve) or \"explicit\"",
+                    pd.name
+                )));
+            }
+        }
         if let Body::Rigid(rb) = b {
             if rb.motion == Motion::Velocity && rb.velocity.norm() > 0.0 {
                 return Err(Error::input(format!(

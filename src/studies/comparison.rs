@@ -13,11 +13,11 @@ use crate::output::analysis::{
     contact_patch, elliptic_accuracy, hertz_cylinder, hertz_sphere, punch_accuracy, Accuracy,
     ContactPatch,
 };
+use crate::output::chart::{legend, write_svg};
 use crate::output::subsurface::{subsurface_shear, SubsurfaceShear};
 use crate::output::vtk::write_atomically;
 use crate::run::{run_scene, RunOptions};
 use crate::scene::Scene;
-use crate::studies::chart::{legend, write_svg};
 use crate::studies::scenarios::{Problem, Reference, ValidationCase};
 
 /// One line of the table (a run compared with one variant of its reference).

@@ -23,8 +23,8 @@ use plotters::prelude::*;
 use serde::Serialize;
 
 use crate::error::{Error, Result};
+use crate::output::chart::{legend, write_svg};
 use crate::output::vtk::write_atomically;
-use crate::studies::chart::{legend, write_svg};
 use crate::studies::comparison::run_case;
 use crate::studies::scenarios::{
     sphere_cap_case, sphere_on_block_case, ValidationCase, ADR_SOLVER, STIFF_PENALTY,

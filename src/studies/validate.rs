@@ -12,8 +12,8 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::output::chart::{legend, write_svg};
 use crate::output::vtk::write_atomically;
-use crate::studies::chart::{legend, write_svg};
 use crate::studies::comparison::{run_case, ValidationRow};
 use crate::studies::scenarios::*;
 

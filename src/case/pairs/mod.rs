@@ -192,6 +192,24 @@ impl PairList {
         }
     }
 
+    /// Removes the bond between `i` and `j` (a real pair, either way round, or `i`'s bond to
+    /// the mirror image `j`) by zeroing its weight, where the list holds it. The list gets a
+    /// new number, so that [`ForceBuffers`] lay out their copies of the weights again.
+    pub fn remove(&mut self, i: usize, j: usize) {
+        let (list, weight, row, partner) = if j < self.particles {
+            (&self.pairs, &mut self.pair_weight, i.min(j), i.max(j))
+        } else {
+            (&self.images, &mut self.image_weight, i, j)
+        };
+        if let Some(b) = list
+            .range(row)
+            .find(|&b| list.partner[b] as usize == partner)
+        {
+            weight[b] = 0.0;
+            self.id = next_id();
+        }
+    }
+
     /// Real particles.
     pub fn particles(&self) -> usize {
         self.particles

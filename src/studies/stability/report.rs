@@ -6,7 +6,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::*;
-use crate::studies::chart::write_svg;
+use crate::output::chart::write_svg;
 
 /// A cell's short text: the outcome, with the MRE of a static run.
 fn cell_text(r: &StabilityRun) -> String {

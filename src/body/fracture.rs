@@ -1,0 +1,282 @@
+//! Bond failure (METHOD.md §9): a bond whose stretch passes the critical stretch `s0` fails for
+//! good (Silling & Askari 2005), and pre-cracks remove the bonds that cross them before a run.
+//!
+//! `s0 = sqrt(5 G0 / (9 κ δ))` comes from the fracture energy: the work of breaking every bond
+//! that crosses a unit area of a crack plane is `G0` (3D bond-based PD, κ the bulk modulus).
+//! Where the horizon follows a graded mesh, a bond of horizon `δ_ij` gets its own
+//! `s0 √(δ/δ_ij)`, which keeps the energy per crack area `G0` there too.
+//!
+//! What a broken bond leaves as built: the surface correction's factors and the skin
+//! correction of the particles around it (a particle near a new crack face keeps the
+//! stiffness of a bulk particle on its intact bonds), ADR's fictitious density (an upper bound
+//! of the stiffness, so still stable), and the contact surface (the eigenvalue surface is not
+//! recomputed: a crack's faces are not contact surfaces).
+//!
+//! Threads and ranks: whether a bond fails depends only on the positions of its two
+//! particles, so the set of bonds that fail in a step is the same whatever the thread or rank
+//! count; each real pair is tested once, by the rank that owns its lower particle, and the
+//! ranks share what failed, so every rank holds every bond's state.
+
+use rayon::prelude::*;
+
+use crate::case::correction::volume_correction;
+use crate::case::neighbours::BondList;
+use crate::case::pairs::PairList;
+use crate::case::PdCase;
+use crate::math::Vec3;
+
+/// `s0 = sqrt(5 G0 / (9 κ δ))`, κ = E / (3 (1 − 2ν)) (METHOD.md §9).
+pub fn critical_stretch(fracture_energy: f64, youngs: f64, poisson: f64, horizon: f64) -> f64 {
+    let bulk = youngs / (3.0 * (1.0 - 2.0 * poisson));
+    (5.0 * fracture_energy / (9.0 * bulk * horizon)).sqrt()
+}
+
+/// A planar rectangular crack patch in the reference configuration.
+#[derive(Clone, Copy, Debug)]
+pub struct CrackPatch {
+    pub point: Vec3,
+    /// Unit normal.
+    pub normal: Vec3,
+    /// Unit in-plane directions of the two sides.
+    pub sides: [Vec3; 2],
+    /// Half lengths along `sides`.
+    pub half: [f64; 2],
+}
+
+impl CrackPatch {
+    /// The patch centred at `point` with normal `normal`, its first side along `along`
+    /// (projected into the plane) and side lengths `size`.
+    pub fn new(point: Vec3, normal: Vec3, along: Vec3, size: [f64; 2]) -> CrackPatch {
+        let n = normal.normalize();
+        let e1 = (along - n * n.dot(&along)).normalize();
+        CrackPatch {
+            point,
+            normal: n,
+            sides: [e1, n.cross(&e1)],
+            half: [0.5 * size[0], 0.5 * size[1]],
+        }
+    }
+
+    /// Whether the segment from `a` to `b` crosses the patch (a point on the plane counts on
+    /// its positive side).
+    pub fn cuts(&self, a: Vec3, b: Vec3) -> bool {
+        let (da, db) = (
+            self.normal.dot(&(a - self.point)),
+            self.normal.dot(&(b - self.point)),
+        );
+        if (da < 0.0) == (db < 0.0) {
+            return false;
+        }
+        let q = a + (b - a) * (da / (da - db)) - self.point;
+        (0..2).all(|k| self.sides[k].dot(&q).abs() <= self.half[k])
+    }
+}
+
+/// The state of a body's bonds once they may fail.
+#[derive(Clone, Debug)]
+pub struct Fracture {
+    /// `s0` at the body's horizon δ; `None`: bonds do not fail (a body with pre-cracks only).
+    pub critical_stretch: Option<f64>,
+    /// Per directed bond: the critical stretch at the bond's own horizon.
+    critical: Vec<f32>,
+    /// Per directed bond: still bonded.
+    pub intact: Vec<bool>,
+    /// Per directed bond: `v_c V_j`, its share of the particle's family volume.
+    volume: Vec<f32>,
+    /// Per particle: the family volume lost (`Σ_broken v_c V_j`) and the whole.
+    lost: Vec<f64>,
+    family: Vec<f64>,
+    /// Bonds broken so far (each real pair once, a bond to a mirror image once).
+    pub broken: usize,
+}
+
+impl Fracture {
+    /// Every bond of `case` intact, failing at `critical_stretch` (at the horizon δ).
+    pub fn new(case: &PdCase, critical_stretch: Option<f64>) -> Fracture {
+        let bonds = &case.bonds;
+        let n = case.particles.len();
+        let spacing = case.particles.spacing;
+        let local = case.local_spacing.as_ref().map(|s| case.ghosts.extend(s));
+        let partner_volume = case.ghosts.partner_volumes(&case.particles.volume);
+        let mut critical = Vec::with_capacity(bonds.len());
+        let mut volume = Vec::with_capacity(bonds.len());
+        let mut family = vec![0.0; n];
+        for (i, fam) in family.iter_mut().enumerate() {
+            for b in bonds.range(i) {
+                let j = bonds.partner[b] as usize;
+                // The bond's own spacing and horizon where the horizon is local.
+                let s = local.as_ref().map_or(spacing, |s| 0.5 * (s[i] + s[j]));
+                let horizon = case.horizon * s / spacing;
+                let s0 = critical_stretch.map_or(f64::INFINITY, |s0| s0 * (spacing / s).sqrt());
+                critical.push(s0 as f32);
+                let v = volume_correction(bonds.length(b), horizon, s) * partner_volume[j];
+                volume.push(v as f32);
+                *fam += v;
+            }
+        }
+        Fracture {
+            critical_stretch,
+            critical,
+            intact: vec![true; bonds.len()],
+            volume,
+            lost: vec![0.0; n],
+            family,
+            broken: 0,
+        }
+    }
+
+    /// Damage `φ_i = 1 − Σ_intact v_c V_j / Σ_all v_c V_j` of particle `i` (METHOD.md §9).
+    pub fn damage(&self, i: usize) -> f64 {
+        if self.family[i] > 0.0 {
+            (self.lost[i] / self.family[i]).min(1.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// The bonds among the rows `rows` that fail at positions `pos` (real particles, then
+    /// images): `(i, b)`, each real pair once (from its lower particle), in row order.
+    /// `reference` holds the reference positions for linearised kinematics (`None`: finite).
+    pub fn failing(
+        &self,
+        bonds: &BondList,
+        pos: &[Vec3],
+        reference: Option<&[Vec3]>,
+        rows: std::ops::Range<usize>,
+    ) -> Vec<(u32, u32)> {
+        if self.critical_stretch.is_none() {
+            return Vec::new();
+        }
+        let n = bonds.particles();
+        rows.into_par_iter()
+            .with_min_len(512)
+            .flat_map_iter(|i| {
+                bonds.range(i).filter_map(move |b| {
+                    let j = bonds.partner[b] as usize;
+                    if !self.intact[b] || (j < n && j < i) {
+                        return None;
+                    }
+                    let l = bonds.length(b);
+                    let stretch = match reference {
+                        None => (pos[j] - pos[i]).norm() / l - 1.0,
+                        Some(x) => {
+                            let xi = x[j] - x[i];
+                            (pos[j] - x[j] - (pos[i] - x[i])).dot(&xi) / (l * l)
+                        }
+                    };
+                    (stretch > f64::from(self.critical[b])).then_some((i as u32, b as u32))
+                })
+            })
+            .collect()
+    }
+
+    /// Breaks the bonds `(i, b)` (each real pair given once, from either end): both directions
+    /// of a real pair, the bond alone to a mirror image. Their weights go to zero in
+    /// `bond_weight` and in `pairs` (where the pair is in it: a rank's list holds its own).
+    pub fn break_bonds(
+        &mut self,
+        bonds: &BondList,
+        broken: &[(u32, u32)],
+        bond_weight: &mut [f32],
+        pairs: &mut PairList,
+    ) {
+        let n = bonds.particles();
+        for &(i, b) in broken {
+            let (i, b) = (i as usize, b as usize);
+            if !self.intact[b] {
+                continue;
+            }
+            let j = bonds.partner[b] as usize;
+            let mut cut = |k: usize, c: usize| {
+                self.intact[c] = false;
+                bond_weight[c] = 0.0;
+                self.lost[k] += f64::from(self.volume[c]);
+            };
+            cut(i, b);
+            if j < n {
+                if let Some(c) = bonds.range(j).find(|&c| bonds.partner[c] as usize == i) {
+                    cut(j, c);
+                }
+            }
+            pairs.remove(i, j);
+            self.broken += 1;
+        }
+    }
+
+    /// The bonds `(i, b)` that cross `patch` (reference positions `x`, images included), each
+    /// real pair once.
+    pub fn crossing(bonds: &BondList, x: &[Vec3], patch: &CrackPatch) -> Vec<(u32, u32)> {
+        let n = bonds.particles();
+        (0..n)
+            .flat_map(|i| bonds.range(i).map(move |b| (i, b)))
+            .filter(|&(i, b)| {
+                let j = bonds.partner[b] as usize;
+                (j > i || j >= n) && patch.cuts(x[i], x[j])
+            })
+            .map(|(i, b)| (i as u32, b as u32))
+            .collect()
+    }
+
+    /// The fragments: groups of particles joined by intact bonds (mirror images aside), as
+    /// the size of each, largest first.
+    pub fn fragments(&self, bonds: &BondList) -> Vec<usize> {
+        let n = bonds.particles();
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        fn root(parent: &mut [u32], mut a: usize) -> usize {
+            while parent[a] as usize != a {
+                parent[a] = parent[parent[a] as usize];
+                a = parent[a] as usize;
+            }
+            a
+        }
+        for i in 0..n {
+            for b in bonds.range(i) {
+                let j = bonds.partner[b] as usize;
+                if j < n && j > i && self.intact[b] {
+                    let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+                    if ri != rj {
+                        parent[ri.max(rj)] = ri.min(rj) as u32;
+                    }
+                }
+            }
+        }
+        let mut size = vec![0usize; n];
+        for i in 0..n {
+            size[root(&mut parent, i)] += 1;
+        }
+        let mut sizes: Vec<usize> = size.into_iter().filter(|&s| s > 0).collect();
+        sizes.sort_unstable_by(|a, b| b.cmp(a));
+        sizes
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_critical_stretch_of_nu_one_quarter() {
+        // ν = 1/4: s0 = sqrt(5 G0 / (6 E δ)).
+        let (g0, e, d) = (100.0, 70e9, 1e-3);
+        let s0 = critical_stretch(g0, e, 0.25, d);
+        assert!((s0 - (5.0 * g0 / (6.0 * e * d)).sqrt()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn a_patch_cuts_the_segments_that_cross_it() {
+        let p = CrackPatch::new(
+            Vec3::zeros(),
+            Vec3::x(),
+            Vec3::new(0.3, 1.0, 0.0),
+            [2.0, 1.0],
+        );
+        assert!(p.cuts(Vec3::new(-0.1, 0.5, 0.2), Vec3::new(0.1, 0.5, 0.2)));
+        // Past the patch's side, on one side, or along the plane: no.
+        assert!(!p.cuts(Vec3::new(-0.1, 1.5, 0.0), Vec3::new(0.1, 1.5, 0.0)));
+        assert!(!p.cuts(Vec3::new(0.1, 0.0, 0.0), Vec3::new(0.2, 0.0, 0.0)));
+        assert!(!p.cuts(Vec3::new(-0.1, 0.0, 0.6), Vec3::new(0.1, 0.0, 0.6)));
+        // A point on the plane belongs to its positive side.
+        assert!(p.cuts(Vec3::new(-0.1, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.0)));
+        assert!(!p.cuts(Vec3::new(0.1, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.0)));
+    }
+}
