@@ -335,3 +335,31 @@ fn lps_on_three_ranks() {
         common::check_vtk(&["same".as_ref(), one.as_os_str(), many.as_os_str()]);
     }
 }
+
+/// Bonds that fail (a notched beam broken by a roller driven through the contact): on three
+/// ranks the same bonds fail in the same increments, with the one-process reactions bit for
+/// bit; each rank tests its own pairs and the ranks share what failed.
+#[test]
+fn fracture_on_three_ranks() {
+    let dir = temp_dir("fracture");
+    let beam = pdcontact::studies::fracture::NotchedBeam {
+        spacing: 0.002,
+        thickness: 0.008,
+        displacement: 0.0005,
+        steps: 5,
+    };
+    let path = dir.join("beam.toml");
+    std::fs::write(&path, beam.scene(".")).expect("written");
+    let (a, b) = both(&path, 3);
+    assert_identical(&a, &b);
+    assert_eq!(a["solver"]["increments"], b["solver"]["increments"]);
+    assert_eq!(a["fracture"], b["fracture"]);
+    let last = &a["solver"]["increments"][4];
+    let first = &a["solver"]["increments"][0];
+    assert!(
+        last["broken_bonds"].as_u64() > first["broken_bonds"].as_u64(),
+        "no bond failed: {a}"
+    );
+    let (one, many) = (dir.join("one"), dir.join("many"));
+    common::check_vtk(&["same".as_ref(), one.as_os_str(), many.as_os_str()]);
+}

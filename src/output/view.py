@@ -1,7 +1,9 @@
-"""Show the last frame of this run in ParaView, coloured by contact pressure.
+"""Show the last frame of this run in ParaView, coloured by contact pressure (or by damage
+where bonds broke).
 
     pvpython view.py                # render the last frame
     pvpython view.py contact.png    # ... and save it as a PNG
+    pvpython view.py --pressure     # the contact pressure even where bonds broke
     python3 view.py --focus         # print the camera it would use (Python's vtk, no ParaView)
 
 In ParaView's Python shell: `import os; os.chdir("RUN_FOLDER"); exec(open("view.py").read())`.
@@ -13,7 +15,10 @@ the camera on the contact: looking through the master at the pressure-weighted c
 loaded surface nodes, along their mean outward normal. The legend, in the lower right corner,
 gives the pressure in the unit that suits the frame (Pa, kPa, MPa or GPa; every label in one
 format) from 0 to its largest value; the upper left corner names the contact pairs and the
-frame: its load factor and iteration (ADR) or its time (s) and step (explicit).
+frame: its load factor and iteration (ADR) or its time (s) and step (explicit). Where bonds
+broke (a `damage` field above 0), the deformable bodies' particles are shown coloured by
+damage, from 0 to 1, seen along the axis in which the bodies are thinnest, centred on the
+damaged particles.
 
 Offscreen, without a display, under a virtual X server that outlives pvpython's first client:
 
@@ -161,6 +166,39 @@ def pressure_scale(blocks, slaves):
     return pmax, 1.0, "Pa"
 
 
+def damage_focus(blocks):
+    """Where bonds broke: (centre, view direction, radius, damaged particles, largest damage)
+    of the deformable bodies' damaged particles (reference positions), looking along the axis
+    in which the damaged bodies are thinnest; None without damage."""
+    lo, hi, blo, bhi, count, dmax = [float("inf")] * 3, [float("-inf")] * 3, [float("inf")] * 3, [float("-inf")] * 3, 0, 0.0
+    for name, g in blocks.items():
+        if name.split("/")[0] not in DEFORMABLE or "/particles" not in name:
+            continue
+        a = g.GetPointData().GetArray("damage")
+        if a is None:
+            continue
+        for i in range(g.GetNumberOfPoints()):
+            x = g.GetPoint(i)
+            blo = [min(p, q) for p, q in zip(blo, x)]
+            bhi = [max(p, q) for p, q in zip(bhi, x)]
+            d = a.GetValue(i)
+            if d > 0.0:
+                count += 1
+                dmax = max(dmax, d)
+                lo = [min(p, q) for p, q in zip(lo, x)]
+                hi = [max(p, q) for p, q in zip(hi, x)]
+    if count == 0:
+        return None
+    extent = [b - a for a, b in zip(blo, bhi)]
+    order = sorted(range(3), key=lambda k: extent[k])
+    normal = [-1.0 if k == order[0] else 0.0 for k in range(3)]
+    # Up along the bodies' middle extent: a beam's height, a plate's shorter side.
+    up = [1.0 if k == order[1] else 0.0 for k in range(3)]
+    centre = [(a + b) / 2 for a, b in zip(lo, hi)]
+    radius = max(max(b - a for a, b in zip(lo, hi)) / 2, extent[order[1]] / 2)
+    return centre, normal, up, radius, count, dmax
+
+
 def camera(centre, normal, radius):
     """Position, focal point and view-up: on the master's side of the contact, along the normal."""
     dist = 8.0 * radius
@@ -182,7 +220,14 @@ def main(argv):
     position, focal, up = camera(centre, normal, radius)
     text = caption(slaves, frame_info(blocks, slaves), t)
     pmax, size, unit = pressure_scale(blocks, slaves)
-    if pmax == 0.0:
+    # Where bonds broke, the particles coloured by damage instead (--pressure keeps the
+    # pressure).
+    damage = None if "--pressure" in argv else damage_focus(blocks)
+    if damage is not None:
+        centre, normal, up, radius, count, dmax = damage
+        position, focal, _ = camera(centre, normal, 0.6 * radius)
+        text += "\n%d particles damaged (largest damage %.2f)" % (count, dmax)
+    elif pmax == 0.0:
         text += "\nno contact pressure in this frame"
     title = "contact pressure (%s)" % unit
     if "--focus" in argv:
@@ -191,7 +236,8 @@ def main(argv):
         print(json.dumps({"frame": os.path.basename(vtm), "timestep": t, "centre": centre,
                           "normal": normal, "radius": radius, "loaded": loaded,
                           "position": position, "up": up, "slaves": slaves, "masters": masters,
-                          "caption": text, "legend": title, "pressure_max": pmax}))
+                          "caption": text, "legend": title, "pressure_max": pmax,
+                          "damaged": damage[4] if damage else 0}))
         return
     png = next((a for a in argv[1:] if not a.startswith("-")), None)
 
@@ -213,6 +259,16 @@ def main(argv):
 
     # The pressure in the legend's unit; its colour range from 0 to the frame's largest value.
     shown = "contact_pressure" if size == 1.0 else "contact_pressure_" + unit
+    if damage is not None:
+        shown, title, pmax, size, slaves = "damage", "damage", 1.0, 1.0, []
+        for b in DEFORMABLE:
+            d = pv.Show(block(b + "/particles"), view)
+            d.Representation = "Points"
+            d.PointSize = 6
+            d.RenderPointsAsSpheres = 1
+            pv.ColorBy(d, ("POINTS", "damage"))
+            d.SetScalarBarVisibility(view, True)
+        pv.GetColorTransferFunction("damage").ApplyPreset("Inferno (matplotlib)", True)
     for s in slaves:
         src = block(s + "/surface")
         if size != 1.0:
