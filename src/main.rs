@@ -164,10 +164,14 @@ enum Command {
     /// rollers, broken by a third driven down through the contact; prints the peak load
     /// against LEFM's and writes the load-displacement chart (docs/FRACTURE.md).
     Fracture {
-        /// Grid spacing Δ, m (the horizon is 3Δ; the notch is 20 mm deep).
-        #[arg(long, default_value_t = 0.002)]
-        spacing: f64,
-        /// Beam thickness B, m.
+        /// The benchmark: the notched beam against LEFM, or the Kalthoff-Winkler plate.
+        #[arg(long, value_enum, default_value_t = FractureCase::Beam)]
+        case: FractureCase,
+        /// Grid spacing Δ, m, the horizon 3Δ [default: 0.002 for the beam, whose notch is 20 mm
+        /// deep; 0.0015 for the plate].
+        #[arg(long)]
+        spacing: Option<f64>,
+        /// The beam's thickness B, m.
         #[arg(long, default_value_t = 0.008)]
         thickness: f64,
         /// The loading roller's travel, m.
@@ -385,6 +389,15 @@ fn parse_format(s: &str) -> Result<Format, String> {
 /// Exit code of a run stopped by Ctrl-C or SIGTERM (128 + SIGINT, as shells report Ctrl-C).
 const EXIT_INTERRUPTED: u8 = 130;
 
+/// `fracture --case`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum FractureCase {
+    /// A notched three-point bend beam broken under displacement control, against LEFM.
+    Beam,
+    /// The Kalthoff-Winkler plate hit between its notches at 32 m/s (explicit).
+    Kalthoff,
+}
+
 /// How a command ended without an error.
 enum Outcome {
     Done,
@@ -485,6 +498,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             Ok(interrupted(&report.summary))
         }
         Command::Fracture {
+            case,
             spacing,
             thickness,
             displacement,
@@ -493,6 +507,10 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             json,
             quiet,
         } => {
+            let spacing = spacing.unwrap_or(match case {
+                FractureCase::Beam => 0.002,
+                FractureCase::Kalthoff => 0.0015,
+            });
             for (what, v) in [
                 ("--spacing", spacing),
                 ("--thickness", thickness),
@@ -504,6 +522,15 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             }
             if steps == 0 {
                 return Err(Error::input("--steps must be at least 1"));
+            }
+            if case == FractureCase::Kalthoff {
+                let plate = pdcontact::studies::fracture::KalthoffPlate {
+                    spacing,
+                    end_time: pdcontact::studies::fracture::kalthoff::END_TIME,
+                };
+                let r = pdcontact::studies::fracture::run_kalthoff(&plate, &output, quiet)?;
+                print_report(json, &r, || r.to_text());
+                return Ok(Outcome::Done);
             }
             let beam = pdcontact::studies::fracture::NotchedBeam {
                 spacing,

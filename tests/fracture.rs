@@ -1,10 +1,11 @@
 //! Bond failure (METHOD.md §9, docs/FRACTURE.md): a notched three-point bend beam broken
-//! through the contact of three rigid rollers against LEFM, the same bits on any thread
-//! count, and elastic scenes untouched by the failure machinery.
+//! through the contact of three rigid rollers against LEFM, the Kalthoff-Winkler plate hit
+//! by a projectile through the contact, the same bits on any thread count, and elastic
+//! scenes untouched by the failure machinery.
 
 use pdcontact::run::{run_scene, RunOptions};
 use pdcontact::scene::Scene;
-use pdcontact::studies::fracture::{run_beam, NotchedBeam};
+use pdcontact::studies::fracture::{run_beam, run_kalthoff, KalthoffPlate, NotchedBeam};
 
 fn temp_dir(name: &str) -> std::path::PathBuf {
     let d = std::env::temp_dir().join(format!("pdcontact-fracture-{name}-{}", std::process::id()));
@@ -152,4 +153,27 @@ fn bonds_that_hold_change_nothing() {
     assert!(a.fracture.is_empty());
     assert_eq!(b.fracture[0].broken_bonds, 0);
     assert_eq!(b.fracture[0].fragments, 1);
+}
+
+/// Kalthoff-Winkler at Δ = 1.5 mm: the crack leaves the notch tip forward and away from the
+/// hit zone and crosses most of the plate. Its angle to the notch, 59° here (the experiment
+/// about 70°, docs/FRACTURE.md), is asserted only to lie between the notch's direction and
+/// the normal to it, well clear of both.
+#[test]
+fn the_kalthoff_plate_cracks_from_its_notch_tip() {
+    let dir = temp_dir("kalthoff");
+    let plate = KalthoffPlate {
+        spacing: 0.0015,
+        end_time: pdcontact::studies::fracture::kalthoff::END_TIME,
+    };
+    let r = run_kalthoff(&plate, &dir, true).expect("runs");
+    assert!(r.crack_particles > 100, "{r:?}");
+    assert!(r.crack_reach > 0.08, "{r:?}");
+    assert!(
+        r.crack_angle_deg > 45.0 && r.crack_angle_deg < 80.0,
+        "{r:?}"
+    );
+    // The plate holds together: the cracks do not cut it through in 90 µs.
+    assert!(r.broken_bonds > 0 && r.fragments < 10, "{r:?}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

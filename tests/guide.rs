@@ -43,6 +43,13 @@ axis = "x"
 [[contact]]
 slave = "ball"
 master = "floor"
+
+[[precrack]]
+body = "ball"
+point = [0.0, 0.0, 0.5]
+normal = [0.0, 0.0, 1.0]
+along = [1.0, 0.0, 0.0]
+size = [0.5, 0.5]
 "#;
 
 /// `(section, line)` for every `key = value` line of the page's TOML blocks, commented-out
@@ -92,6 +99,7 @@ fn every_scene_key_in_the_guide_is_one_the_parser_accepts() {
         "constraint",
         "symmetry",
         "contact",
+        "precrack",
     ] {
         assert!(
             keys.iter().any(|(s, _)| s == section),
@@ -109,9 +117,10 @@ fn every_scene_key_in_the_guide_is_one_the_parser_accepts() {
                     .and_then(|b| b.get_mut("material"))
                     .and_then(toml::Value::as_table_mut)
             }),
-            "body" | "load" | "constraint" | "symmetry" | "contact" => scene[section.as_str()]
-                .as_array_mut()
-                .and_then(|a| a[0].as_table_mut()),
+            "body" | "load" | "constraint" | "symmetry" | "contact" | "precrack" => scene
+                [section.as_str()]
+            .as_array_mut()
+            .and_then(|a| a[0].as_table_mut()),
             other => panic!("`{line}` under an unknown section [{other}] in scene.md"),
         }
         .expect("the base scene has the section");
@@ -141,7 +150,7 @@ fn every_command_option_is_in_the_guide() {
     .expect("docs/guide/commands.md");
     let mut checked = 0;
     for command in [
-        "inspect", "convert", "run", "demo", "validate", "sweep", "bench",
+        "inspect", "convert", "run", "demo", "validate", "fracture", "sweep", "bench",
     ] {
         assert!(
             page.contains(&format!("## {command}")),

@@ -24,6 +24,10 @@ use crate::case::neighbours::BondList;
 use crate::case::pairs::PairList;
 use crate::case::PdCase;
 use crate::math::Vec3;
+use crate::scene::Kinematics;
+
+/// Particles per work item of the failure test.
+const CHUNK: usize = 1024;
 
 /// `s0 = sqrt(5 G0 / (9 κ δ))`, κ = E / (3 (1 − 2ν)) (METHOD.md §9).
 pub fn critical_stretch(fracture_energy: f64, youngs: f64, poisson: f64, horizon: f64) -> f64 {
@@ -77,8 +81,14 @@ impl CrackPatch {
 pub struct Fracture {
     /// `s0` at the body's horizon δ; `None`: bonds do not fail (a body with pre-cracks only).
     pub critical_stretch: Option<f64>,
-    /// Per directed bond: the critical stretch at the bond's own horizon.
-    critical: Vec<f32>,
+    /// Per directed bond: the bound the pass tests, from the critical stretch `s0` at the
+    /// bond's own horizon: `((1 + s0) L)²` against `|y|²` (finite kinematics, no square root
+    /// per bond) or `s0 L²` against `η·ξ` (linearised); infinite where the bond is broken or
+    /// is tested from its other end, so that the pass tests each real pair once without a
+    /// branch.
+    limit: Vec<f32>,
+    /// Which of the two the bounds are for.
+    kinematics: Kinematics,
     /// Per directed bond: still bonded.
     pub intact: Vec<bool>,
     /// Per directed bond: `v_c V_j`, its share of the particle's family volume.
@@ -91,14 +101,15 @@ pub struct Fracture {
 }
 
 impl Fracture {
-    /// Every bond of `case` intact, failing at `critical_stretch` (at the horizon δ).
-    pub fn new(case: &PdCase, critical_stretch: Option<f64>) -> Fracture {
+    /// Every bond of `case` intact, failing at `critical_stretch` (at the horizon δ) under
+    /// `kinematics`.
+    pub fn new(case: &PdCase, critical_stretch: Option<f64>, kinematics: Kinematics) -> Fracture {
         let bonds = &case.bonds;
         let n = case.particles.len();
         let spacing = case.particles.spacing;
         let local = case.local_spacing.as_ref().map(|s| case.ghosts.extend(s));
         let partner_volume = case.ghosts.partner_volumes(&case.particles.volume);
-        let mut critical = Vec::with_capacity(bonds.len());
+        let mut limit = Vec::with_capacity(bonds.len());
         let mut volume = Vec::with_capacity(bonds.len());
         let mut family = vec![0.0; n];
         for (i, fam) in family.iter_mut().enumerate() {
@@ -108,7 +119,16 @@ impl Fracture {
                 let s = local.as_ref().map_or(spacing, |s| 0.5 * (s[i] + s[j]));
                 let horizon = case.horizon * s / spacing;
                 let s0 = critical_stretch.map_or(f64::INFINITY, |s0| s0 * (spacing / s).sqrt());
-                critical.push(s0 as f32);
+                let l = bonds.length(b);
+                let bound = if j < n && j < i {
+                    f64::INFINITY
+                } else {
+                    match kinematics {
+                        Kinematics::Finite => ((1.0 + s0) * l).powi(2),
+                        Kinematics::Small => s0 * l * l,
+                    }
+                };
+                limit.push(bound as f32);
                 let v = volume_correction(bonds.length(b), horizon, s) * partner_volume[j];
                 volume.push(v as f32);
                 *fam += v;
@@ -116,7 +136,8 @@ impl Fracture {
         }
         Fracture {
             critical_stretch,
-            critical,
+            limit,
+            kinematics,
             intact: vec![true; bonds.len()],
             volume,
             lost: vec![0.0; n],
@@ -135,38 +156,51 @@ impl Fracture {
     }
 
     /// The bonds among the rows `rows` that fail at positions `pos` (real particles, then
-    /// images): `(i, b)`, each real pair once (from its lower particle), in row order.
-    /// `reference` holds the reference positions for linearised kinematics (`None`: finite).
+    /// images): `(i, b)`, each real pair once (from its lower particle), in row order. With
+    /// linearised kinematics `reference` holds the reference positions.
     pub fn failing(
         &self,
         bonds: &BondList,
         pos: &[Vec3],
-        reference: Option<&[Vec3]>,
+        reference: &[Vec3],
         rows: std::ops::Range<usize>,
     ) -> Vec<(u32, u32)> {
         if self.critical_stretch.is_none() {
             return Vec::new();
         }
-        let n = bonds.particles();
-        rows.into_par_iter()
-            .with_min_len(512)
-            .flat_map_iter(|i| {
-                bonds.range(i).filter_map(move |b| {
-                    let j = bonds.partner[b] as usize;
-                    if !self.intact[b] || (j < n && j < i) {
-                        return None;
+        let small = self.kinematics == Kinematics::Small;
+        let test = |rows: std::ops::Range<usize>| {
+            let mut out = Vec::new();
+            for i in rows {
+                let range = bonds.range(i);
+                let (partner, limit) = (&bonds.partner[range.clone()], &self.limit[range.clone()]);
+                let yi = pos[i];
+                for (k, (&j, &bound)) in partner.iter().zip(limit).enumerate() {
+                    // Broken, or tested from the other end: no position to read.
+                    if bound == f32::INFINITY {
+                        continue;
                     }
-                    let l = bonds.length(b);
-                    let stretch = match reference {
-                        None => (pos[j] - pos[i]).norm() / l - 1.0,
-                        Some(x) => {
-                            let xi = x[j] - x[i];
-                            (pos[j] - x[j] - (pos[i] - x[i])).dot(&xi) / (l * l)
-                        }
+                    let j = j as usize;
+                    let d = pos[j] - yi;
+                    let measure = if small {
+                        let xi = reference[j] - reference[i];
+                        (d - xi).dot(&xi)
+                    } else {
+                        d.norm_squared()
                     };
-                    (stretch > f64::from(self.critical[b])).then_some((i as u32, b as u32))
-                })
-            })
+                    if measure > f64::from(bound) {
+                        out.push((i as u32, (range.start + k) as u32));
+                    }
+                }
+            }
+            out
+        };
+        let (start, end) = (rows.start, rows.end);
+        (start..end)
+            .step_by(CHUNK)
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .flat_map_iter(|a| test(a..(a + CHUNK).min(end)))
             .collect()
     }
 
@@ -189,6 +223,7 @@ impl Fracture {
             let j = bonds.partner[b] as usize;
             let mut cut = |k: usize, c: usize| {
                 self.intact[c] = false;
+                self.limit[c] = f32::INFINITY;
                 bond_weight[c] = 0.0;
                 self.lost[k] += f64::from(self.volume[c]);
             };

@@ -254,10 +254,10 @@ impl PdBody {
     }
 
     /// Bonds may fail past `critical_stretch` (`None`: only pre-cracks cut them): sets up the
-    /// failure state, once.
+    /// failure state, once, for the body's kinematics as they are now.
     pub fn enable_fracture(&mut self, critical_stretch: Option<f64>) {
         if self.fracture.is_none() {
-            self.fracture = Some(Fracture::new(&self.case, critical_stretch));
+            self.fracture = Some(Fracture::new(&self.case, critical_stretch, self.kinematics));
         }
     }
 

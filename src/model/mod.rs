@@ -446,11 +446,7 @@ fn internal_forces_with(
         .as_ref()
         .filter(|f| f.critical_stretch.is_some())
     {
-        let reference = match pd.kinematics {
-            Kinematics::Small => Some(&pd.reference[..]),
-            Kinematics::Finite => None,
-        };
-        let failed = all_failed(fr.failing(&pd.case.bonds, pos, reference, pd.owned.clone()));
+        let failed = all_failed(fr.failing(&pd.case.bonds, pos, &pd.reference, pd.owned.clone()));
         if !failed.is_empty() {
             pd.break_bonds(&failed);
         }

@@ -269,8 +269,12 @@ pub fn explicit(
                 Body::Rigid(rb) => match rb.motion {
                     Motion::Fixed | Motion::Displacement => {}
                     Motion::Velocity => {
-                        // Work done on the system by the driven body over the step.
-                        rigid_work += -rb.contact_force.dot(&(rb.velocity * dt));
+                        // Work done on the system by the driven body over the step, by the
+                        // trapezoid rule: half with the force at the step's start here, half
+                        // with the force at its end below. (The start's force alone counts the
+                        // work of a first contact one step late: a body driven fast into
+                        // another gave kinetic energy that no work had supplied yet.)
+                        rigid_work += -0.5 * rb.contact_force.dot(&(rb.velocity * dt));
                         rb.translation += rb.velocity * dt;
                     }
                     Motion::Free => {
@@ -296,6 +300,9 @@ pub fn explicit(
                 Body::Rigid(rb) if rb.motion == Motion::Free && rb.mass > 0.0 => {
                     let f = (rb.load + rb.contact_force).dot(&rb.axis);
                     rb.axial_speed += 0.5 * dt * f / rb.mass;
+                }
+                Body::Rigid(rb) if rb.motion == Motion::Velocity => {
+                    rigid_work += -0.5 * rb.contact_force.dot(&(rb.velocity * dt));
                 }
                 Body::Rigid(_) => {}
             }

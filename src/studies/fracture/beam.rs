@@ -1,4 +1,4 @@
-//! `pdcontact fracture`: a notched three-point bend beam broken under displacement control
+//! A notched three-point bend beam broken under displacement control
 //! against linear elastic fracture mechanics (METHOD.md §9, docs/FRACTURE.md).
 //!
 //! ASTM E399 proportions: height W, span S = 4W, notch depth a = W/2. The beam lies on two
@@ -111,8 +111,9 @@ pub struct BeamResult {
     pub lefm_plane_strain: f64,
     /// The load at the last increment against the peak: below 1 once the beam softens.
     pub last_over_peak: f64,
-    /// The crack's reach: the highest particle with damage ≥ 0.4 within 2δ of the notch's
-    /// plane, m above the bottom face, and the farthest such particle from that plane, m.
+    /// The crack's reach: the highest particle with damage ≥ 0.3 within 2δ of the notch's
+    /// plane that a chain of such particles, none more than 2Δ above the last, joins to the
+    /// notch tip, m above the bottom face; and the farthest of the chain from that plane, m.
     pub crack_tip_height: f64,
     pub crack_offset: f64,
     pub broken_bonds: usize,
@@ -128,7 +129,7 @@ impl BeamResult {
         let pct = |p: f64| 100.0 * (self.peak_load / p - 1.0);
         format!(
             concat!(
-                "notched three-point bend beam, W = {w} mm, B = {b} mm, a/W = 0.5: Δ = {dx} mm, δ = {d} mm (a/δ = {ad:.1}), {n} particles\n",
+                "notched three-point bend beam, W = {w} mm, B = {b} mm, a/W = 0.5: Δ = {dx} mm, δ = {d:.2} mm (a/δ = {ad:.1}), {n} particles\n",
                 "peak load {p:.1} N at {u:.3} mm; LEFM {ps:.1} N in plane stress ({e1:+.1} %), {pe:.1} N in plane strain ({e2:+.1} %)\n",
                 "after the peak the load fell to {soft:.0} % of it; crack tip {tip:.1} mm above the bottom face (notch tip {a} mm), at most {off:.1} mm off the notch's plane\n",
                 "{bonds} bonds broken, {it} iterations, {wall:.1} s; chart {chart}\n",
@@ -193,15 +194,23 @@ pub fn run_beam(beam: &NotchedBeam, folder: &Path, quiet: bool) -> Result<BeamRe
         .find_map(|b| b.as_pd())
         .expect("the beam is deformable");
     let horizon = pd.case.horizon;
-    let (mut tip, mut offset) = (0.0f64, 0.0f64);
-    for i in 0..pd.len() {
-        let x = pd.case.particles.position[i];
-        if pd.damage(i) >= 0.4 && x.x.abs() <= 2.0 * horizon {
-            tip = tip.max(x.z);
-            if x.z > 0.5 * HEIGHT {
-                offset = offset.max(x.x.abs());
-            }
+    // The crack: damaged particles (≥ 0.3, a particle beside an open crack has lost about
+    // half its family) near the notch's plane, followed up from the notch tip while each is
+    // within two spacings of the last; damage under the loading roller, apart from it, is
+    // not the crack.
+    let mut column: Vec<(f64, f64)> = (0..pd.len())
+        .map(|i| (pd.case.particles.position[i], pd.damage(i)))
+        .filter(|(x, d)| *d >= 0.3 && x.x.abs() <= 2.0 * horizon && x.z > 0.5 * HEIGHT)
+        .map(|(x, _)| (x.z, x.x.abs()))
+        .collect();
+    column.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (mut tip, mut offset) = (0.5 * HEIGHT, 0.0f64);
+    for (z, off) in column {
+        if z > tip + 2.0 * pd.spacing() {
+            break;
         }
+        tip = tip.max(z);
+        offset = offset.max(off);
     }
     let nu: f64 = 0.25;
     Ok(BeamResult {

@@ -1,0 +1,11 @@
+//! `pdcontact fracture`: bond failure against its references (METHOD.md §9,
+//! docs/FRACTURE.md): a notched three-point bend beam broken under displacement control
+//! against linear elastic fracture mechanics ([`beam`]), and the Kalthoff-Winkler plate hit
+//! between its notches by a projectile, whose cracks leave the notch tips at about 70°
+//! ([`kalthoff`]).
+
+pub mod beam;
+pub mod kalthoff;
+
+pub use beam::{lefm_peak_load, run_beam, shape_factor, BeamResult, NotchedBeam};
+pub use kalthoff::{run_kalthoff, KalthoffPlate, KalthoffResult};
