@@ -610,6 +610,14 @@ fn fracture_errors() {
     };
     let text = crack("[0.5, 0.5, 0.25]", "[0.0, 1.0, 0.0]");
     assert_error("parallel", &text, "[[precrack]]", &["along", "parallel"]);
+    let text = crack("[0.5, 0.5, 0.25]", "[1.0, 0.0, 0.0]")
+        .replace("density = 1000.0", "density = 1000.0\nmodel = \"lps\"");
+    assert_error(
+        "lps-precrack",
+        &text,
+        "[[precrack]]",
+        &["lps", "bond-based"],
+    );
     let text = crack("[5.0, 0.5, 0.25]", "[1.0, 0.0, 0.0]");
     assert_error("outside", &text, "[[precrack]]", &["cuts no bond", "block"]);
     let text = format!(

@@ -371,6 +371,12 @@ impl Scene {
                     c.body
                 )));
             }
+            if b.material.is_some_and(|m| m.model == MaterialModel::Lps) {
+                return Err(perr(format!(
+                    "precrack in \"{}\": the linear peridynamic solid (model = \"lps\") cannot have bonds cut yet (its force states are built on whole families); pre-cracks are for bond-based bodies",
+                    c.body
+                )));
+            }
             let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
             if !(finite(&c.point) && finite(&c.normal) && finite(&c.along)) {
                 return Err(perr(format!(
