@@ -14,6 +14,26 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
     d
 }
 
+/// Runs the scene `text` in a temporary folder named for `name`.
+fn run_text(text: &str, name: &str) -> (pdcontact::model::Model, pdcontact::run::RunSummary) {
+    let dir = temp_dir(name);
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).expect("scene");
+    let scene = Scene::load(&path).expect("scene loads");
+    let out = run_scene(
+        &scene,
+        &RunOptions {
+            output: Some(dir.clone()),
+            quiet: true,
+            stop: None,
+            comm: None,
+        },
+    )
+    .expect("runs");
+    let _ = std::fs::remove_dir_all(&dir);
+    out
+}
+
 /// The coarse beam (Δ = 2 mm, δ = 6 mm against a 20 mm notch) driven 0.6 mm in 12
 /// increments: past its peak.
 fn coarse() -> NotchedBeam {
@@ -65,31 +85,13 @@ fn bonds_fail_alike_on_any_thread_count() {
         ..coarse()
     };
     let run = |threads: usize| {
-        let dir = temp_dir(&format!("threads{threads}"));
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .expect("pool");
-        let text = beam.scene(".");
-        let path = dir.join("scene.toml");
-        std::fs::write(&path, text).expect("scene");
-        let scene = Scene::load(&path).expect("scene loads");
-        let (model, summary) = pool
-            .install(|| {
-                run_scene(
-                    &scene,
-                    &RunOptions {
-                        output: Some(dir.clone()),
-                        quiet: true,
-                        stop: None,
-                        comm: None,
-                    },
-                )
-            })
-            .expect("runs");
-        let _ = std::fs::remove_dir_all(&dir);
-        let pd = model.bodies[0].as_pd().expect("beam").clone();
-        (summary, pd)
+        let (model, summary) =
+            pool.install(|| run_text(&beam.scene("."), &format!("threads{threads}")));
+        (summary, model.bodies[0].as_pd().expect("beam").clone())
     };
     let (a, pa) = run(1);
     let (b, pb) = run(2);
@@ -129,21 +131,7 @@ fn bonds_that_hold_change_nothing() {
     let unbreakable = elastic.replace("density = 1200", "density = 1200, critical_stretch = 10.0");
     assert_ne!(elastic, unbreakable);
     let run = |text: &str, name: &str| {
-        let dir = temp_dir(name);
-        let path = dir.join("scene.toml");
-        std::fs::write(&path, text).expect("scene");
-        let scene = Scene::load(&path).expect("loads");
-        let (model, summary) = run_scene(
-            &scene,
-            &RunOptions {
-                output: Some(dir.clone()),
-                quiet: true,
-                stop: None,
-                comm: None,
-            },
-        )
-        .expect("runs");
-        let _ = std::fs::remove_dir_all(&dir);
+        let (model, summary) = run_text(text, name);
         (model.bodies[0].as_pd().expect("beam").u.clone(), summary)
     };
     let (ua, a) = run(&elastic, "elastic");

@@ -88,40 +88,7 @@ impl Scene {
                         ),
                     ));
                 }
-                if let (Some(_), Some(_)) = (m.fracture_energy, m.critical_stretch) {
-                    return Err(err(
-                        "critical_stretch",
-                        format!(
-                            "body \"{}\": give fracture_energy or critical_stretch, not both (the critical stretch follows from the fracture energy)",
-                            b.name
-                        ),
-                    ));
-                }
-                for (what, v) in [
-                    ("fracture_energy", m.fracture_energy),
-                    ("critical_stretch", m.critical_stretch),
-                ] {
-                    let Some(v) = v else { continue };
-                    if !(v > 0.0 && v.is_finite()) {
-                        return Err(err(
-                            what,
-                            format!(
-                                "body \"{}\": {what} must be positive, got {}",
-                                b.name,
-                                num(v)
-                            ),
-                        ));
-                    }
-                    if m.model == MaterialModel::Lps {
-                        return Err(err(
-                            what,
-                            format!(
-                                "body \"{}\": bond failure ({what}) is implemented for bond-based bodies; the linear peridynamic solid (model = \"lps\") has no failure criterion here yet: use the bond-based model (ν = 1/4) for a body that breaks",
-                                b.name
-                            ),
-                        ));
-                    }
-                }
+                super::check_fracture::fracture_keys(b, m, &err)?;
                 match m.model {
                     MaterialModel::BondBased if (m.poisson_ratio - 0.25).abs() > 1e-9 => {
                         return Err(err(
@@ -362,65 +329,7 @@ impl Scene {
                 ));
             }
         }
-        for (k, c) in self.precracks.iter().enumerate() {
-            let b = body(&c.body, &format!("body = \"{}\"", c.body))?;
-            let perr = |msg: String| block_err("[[precrack]]", k, msg);
-            if b.kind == BodyKind::Rigid {
-                return Err(perr(format!(
-                    "precrack in rigid body \"{}\": a rigid body has no bonds to cut",
-                    c.body
-                )));
-            }
-            if b.material.is_some_and(|m| m.model == MaterialModel::Lps) {
-                return Err(perr(format!(
-                    "precrack in \"{}\": the linear peridynamic solid (model = \"lps\") cannot have bonds cut yet (its force states are built on whole families); pre-cracks are for bond-based bodies",
-                    c.body
-                )));
-            }
-            let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-            if !(finite(&c.point) && finite(&c.normal) && finite(&c.along)) {
-                return Err(perr(format!(
-                    "precrack in \"{}\": point, normal and along must be finite",
-                    excerpt(&c.body)
-                )));
-            }
-            let (n, a) = (Vec3::from(c.normal), Vec3::from(c.along));
-            if n.norm() == 0.0 || a.cross(&n).norm() <= 1e-9 * a.norm() * n.norm() {
-                return Err(perr(format!(
-                    "precrack in \"{}\": expected a non-zero normal and an `along` direction not parallel to it, got normal [{}, {}, {}] and along [{}, {}, {}]",
-                    excerpt(&c.body),
-                    num(c.normal[0]),
-                    num(c.normal[1]),
-                    num(c.normal[2]),
-                    num(c.along[0]),
-                    num(c.along[1]),
-                    num(c.along[2])
-                )));
-            }
-            // A crack on a symmetry plane cannot open: the particles on the plane are held
-            // on it, and stay bonded to the body's side.
-            if let Some(plane) = self.symmetries.iter().find(|s| {
-                s.body == c.body
-                    && n.cross(&Vec3::ith(s.axis.index(), 1.0)).norm() <= 1e-9 * n.norm()
-                    && (c.point[s.axis.index()] - s.at).abs()
-                        <= 1e-9 * c.size[0].abs().max(c.size[1].abs())
-            }) {
-                return Err(perr(format!(
-                    "precrack in \"{}\" lies on its symmetry plane {} = {}: a crack there cannot open, since the particles on the plane are held on it and stay bonded to the body; model both sides of the crack (drop that [[symmetry]]) or put the crack off the plane",
-                    excerpt(&c.body),
-                    plane.axis.name(),
-                    num(plane.at)
-                )));
-            }
-            if !c.size.iter().all(|&l| l > 0.0 && l.is_finite()) {
-                return Err(perr(format!(
-                    "precrack in \"{}\": size = [length along `along`, length across] must be positive, got [{}, {}]",
-                    excerpt(&c.body),
-                    num(c.size[0]),
-                    num(c.size[1])
-                )));
-            }
-        }
+        self.check_precracks(&body)?;
         for (k, c) in self.contacts.iter().enumerate() {
             let same = |o: &super::ContactSpec| {
                 (o.slave == c.slave && o.master == c.master)

@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 mod check;
+mod check_fracture;
 
 pub(crate) use check::{box_corner, memory_limit};
 

@@ -7,14 +7,12 @@
 //! load is `P = K_Ic B W^{3/2} / (S f(a/W))` with `K_Ic = sqrt(E' G0)`.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::error::{Error, Result};
-use crate::output::vtk::write_atomically;
-use crate::run::{run_scene, RunOptions, LOAD_DISPLACEMENT_NAME};
-use crate::scene::Scene;
+use super::run_in;
+use crate::error::Result;
+use crate::run::LOAD_DISPLACEMENT_NAME;
 
 /// The beam's height W, m.
 pub const HEIGHT: f64 = 0.04;
@@ -160,22 +158,7 @@ impl BeamResult {
 
 /// Runs `beam` into `folder` and measures it.
 pub fn run_beam(beam: &NotchedBeam, folder: &Path, quiet: bool) -> Result<BeamResult> {
-    std::fs::create_dir_all(folder).map_err(|e| Error::output(folder, e))?;
-    let path = folder.join("scene.toml");
-    let text = beam.scene(".");
-    write_atomically(&path, |w| std::io::Write::write_all(w, text.as_bytes()))?;
-    let scene = Scene::load(&path)?;
-    let start = Instant::now();
-    let (model, summary) = run_scene(
-        &scene,
-        &RunOptions {
-            output: Some(folder.to_path_buf()),
-            quiet,
-            stop: None,
-            comm: None,
-        },
-    )?;
-    let wall_seconds = start.elapsed().as_secs_f64();
+    let (model, summary, wall_seconds) = run_in(&beam.scene("."), folder, quiet)?;
     // Half the thickness is modelled: the whole beam carries twice the reaction.
     let (peak_load, peak_displacement) = summary
         .solver

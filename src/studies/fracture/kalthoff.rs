@@ -13,15 +13,12 @@
 //! dynamics for 90 µs.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::error::{Error, Result};
+use super::run_in;
+use crate::error::Result;
 use crate::math::Vec3;
-use crate::output::vtk::write_atomically;
-use crate::run::{run_scene, RunOptions};
-use crate::scene::Scene;
 
 /// The notch tip, where the crack starts (x along the notch from the hit edge, y across).
 const TIP: [f64; 2] = [0.05, 0.025];
@@ -118,22 +115,7 @@ impl KalthoffResult {
 
 /// Runs `plate` into `folder` and measures its crack.
 pub fn run_kalthoff(plate: &KalthoffPlate, folder: &Path, quiet: bool) -> Result<KalthoffResult> {
-    std::fs::create_dir_all(folder).map_err(|e| Error::output(folder, e))?;
-    let path = folder.join("scene.toml");
-    let text = plate.scene(".");
-    write_atomically(&path, |w| std::io::Write::write_all(w, text.as_bytes()))?;
-    let scene = Scene::load(&path)?;
-    let start = Instant::now();
-    let (model, summary) = run_scene(
-        &scene,
-        &RunOptions {
-            output: Some(folder.to_path_buf()),
-            quiet,
-            stop: None,
-            comm: None,
-        },
-    )?;
-    let wall_seconds = start.elapsed().as_secs_f64();
+    let (model, summary, wall_seconds) = run_in(&plate.scene("."), folder, quiet)?;
     let pd = model
         .bodies
         .iter()

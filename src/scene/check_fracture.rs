@@ -1,0 +1,121 @@
+//! The scene checks of bond failure: the fracture keys of a material and the pre-cracks
+//! (METHOD.md §9, [`crate::body::fracture`]).
+
+use super::{excerpt, num, BodyKind, BodySpec, MaterialModel, MaterialSpec, Result, Scene};
+use crate::error::Error;
+use crate::math::Vec3;
+
+/// `fracture_energy` and `critical_stretch` of body `b`'s material `m`: one of them, positive,
+/// on a bond-based body; `err` points at a key of the body.
+pub(super) fn fracture_keys(
+    b: &BodySpec,
+    m: &MaterialSpec,
+    err: &dyn Fn(&str, String) -> Error,
+) -> Result<()> {
+    if let (Some(_), Some(_)) = (m.fracture_energy, m.critical_stretch) {
+        return Err(err(
+            "critical_stretch",
+            format!(
+                "body \"{}\": give fracture_energy or critical_stretch, not both (the critical stretch follows from the fracture energy)",
+                b.name
+            ),
+        ));
+    }
+    for (what, v) in [
+        ("fracture_energy", m.fracture_energy),
+        ("critical_stretch", m.critical_stretch),
+    ] {
+        let Some(v) = v else { continue };
+        if !(v > 0.0 && v.is_finite()) {
+            return Err(err(
+                what,
+                format!(
+                    "body \"{}\": {what} must be positive, got {}",
+                    b.name,
+                    num(v)
+                ),
+            ));
+        }
+        if m.model == MaterialModel::Lps {
+            return Err(err(
+                what,
+                format!(
+                    "body \"{}\": bond failure ({what}) is implemented for bond-based bodies; the linear peridynamic solid (model = \"lps\") has no failure criterion here yet: use the bond-based model (ν = 1/4) for a body that breaks",
+                    b.name
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+impl Scene {
+    /// Every `[[precrack]]`: a deformable bond-based body, a finite patch with a normal and a
+    /// side not along it, positive sizes, not on one of the body's symmetry planes.
+    /// `body(name, needle)` finds a body or says that none has the name.
+    pub(super) fn check_precracks<'a>(
+        &'a self,
+        body: &dyn Fn(&str, &str) -> Result<&'a BodySpec>,
+    ) -> Result<()> {
+        for (k, c) in self.precracks.iter().enumerate() {
+            let b = body(&c.body, &format!("body = \"{}\"", c.body))?;
+            let perr = |msg: String| self.block_error("[[precrack]]", k, msg);
+            if b.kind == BodyKind::Rigid {
+                return Err(perr(format!(
+                    "precrack in rigid body \"{}\": a rigid body has no bonds to cut",
+                    c.body
+                )));
+            }
+            if b.material.is_some_and(|m| m.model == MaterialModel::Lps) {
+                return Err(perr(format!(
+                    "precrack in \"{}\": the linear peridynamic solid (model = \"lps\") cannot have bonds cut yet (its force states are built on whole families); pre-cracks are for bond-based bodies",
+                    c.body
+                )));
+            }
+            let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+            if !(finite(&c.point) && finite(&c.normal) && finite(&c.along)) {
+                return Err(perr(format!(
+                    "precrack in \"{}\": point, normal and along must be finite",
+                    excerpt(&c.body)
+                )));
+            }
+            let (n, a) = (Vec3::from(c.normal), Vec3::from(c.along));
+            if n.norm() == 0.0 || a.cross(&n).norm() <= 1e-9 * a.norm() * n.norm() {
+                return Err(perr(format!(
+                    "precrack in \"{}\": expected a non-zero normal and an `along` direction not parallel to it, got normal [{}, {}, {}] and along [{}, {}, {}]",
+                    excerpt(&c.body),
+                    num(c.normal[0]),
+                    num(c.normal[1]),
+                    num(c.normal[2]),
+                    num(c.along[0]),
+                    num(c.along[1]),
+                    num(c.along[2])
+                )));
+            }
+            // A crack on a symmetry plane cannot open: the particles on the plane are held
+            // on it, and stay bonded to the body's side.
+            if let Some(plane) = self.symmetries.iter().find(|s| {
+                s.body == c.body
+                    && n.cross(&Vec3::ith(s.axis.index(), 1.0)).norm() <= 1e-9 * n.norm()
+                    && (c.point[s.axis.index()] - s.at).abs()
+                        <= 1e-9 * c.size[0].abs().max(c.size[1].abs())
+            }) {
+                return Err(perr(format!(
+                    "precrack in \"{}\" lies on its symmetry plane {} = {}: a crack there cannot open, since the particles on the plane are held on it and stay bonded to the body; model both sides of the crack (drop that [[symmetry]]) or put the crack off the plane",
+                    excerpt(&c.body),
+                    plane.axis.name(),
+                    num(plane.at)
+                )));
+            }
+            if !c.size.iter().all(|&l| l > 0.0 && l.is_finite()) {
+                return Err(perr(format!(
+                    "precrack in \"{}\": size = [length along `along`, length across] must be positive, got [{}, {}]",
+                    excerpt(&c.body),
+                    num(c.size[0]),
+                    num(c.size[1])
+                )));
+            }
+        }
+        Ok(())
+    }
+}
