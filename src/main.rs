@@ -190,6 +190,41 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Friction against its references: a block on a tilted plane that holds or slides
+    /// (explicit), and Cattaneo-Mindlin, a sphere pressed and then pushed sideways, whose
+    /// contact sticks within c = a (1 − Q/(μP))^(1/3) (ADR; docs/VALIDATION.md "Friction").
+    Friction {
+        /// The benchmark.
+        #[arg(long, value_enum, default_value_t = FrictionCase::Mindlin)]
+        case: FrictionCase,
+        /// Grid spacing Δ, m [default: 0.03 for the sphere (a/Δ = 5), 0.01 for the block].
+        #[arg(long)]
+        spacing: Option<f64>,
+        /// Coulomb's μ.
+        #[arg(long, default_value_t = 0.3)]
+        friction: f64,
+        /// The block's slopes tan θ, one run each.
+        #[arg(long, value_delimiter = ',', default_value = "0.2,0.5")]
+        slope: Vec<f64>,
+        /// Mindlin: the push, as a share of the theory's travel at full slip.
+        #[arg(long, default_value_t = 1.0)]
+        push: f64,
+        /// Mindlin: increments of the pressing and of the push.
+        #[arg(long, default_value_t = 8)]
+        steps: usize,
+        /// Mindlin: on a rigid flat (β ≠ 0) instead of a block of the same material.
+        #[arg(long)]
+        rigid_flat: bool,
+        /// Output folder.
+        #[arg(short, long, default_value = "pdcontact-friction")]
+        output: PathBuf,
+        /// Print the results as JSON on stdout.
+        #[arg(long)]
+        json: bool,
+        /// No progress on stderr.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Speed against accuracy: the Hertz sphere over a grid of spacings, horizons, contact
     /// methods and solvers; writes sweep.json and speed_accuracy.svg.
     Sweep {
@@ -389,6 +424,16 @@ fn parse_format(s: &str) -> Result<Format, String> {
 /// Exit code of a run stopped by Ctrl-C or SIGTERM (128 + SIGINT, as shells report Ctrl-C).
 const EXIT_INTERRUPTED: u8 = 130;
 
+/// `friction --case`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum FrictionCase {
+    /// A sphere pressed, then pushed sideways: the stick radius and shear traction against
+    /// Cattaneo-Mindlin.
+    Mindlin,
+    /// A block on a tilted plane: at rest for tan θ ≤ μ, else g (sin θ − μ cos θ).
+    Sliding,
+}
+
 /// `fracture --case`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 enum FractureCase {
@@ -539,6 +584,66 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 steps,
             };
             let r = pdcontact::studies::fracture::run_beam(&beam, &output, quiet)?;
+            print_report(json, &r, || r.to_text());
+            Ok(Outcome::Done)
+        }
+        Command::Friction {
+            case,
+            spacing,
+            friction,
+            slope,
+            push,
+            steps,
+            rigid_flat,
+            output,
+            json,
+            quiet,
+        } => {
+            use pdcontact::studies::friction as f;
+            let spacing = spacing.unwrap_or(match case {
+                FrictionCase::Mindlin => 0.03,
+                FrictionCase::Sliding => 0.01,
+            });
+            if !(spacing > 0.0 && spacing.is_finite()) {
+                return Err(Error::input(format!(
+                    "--spacing must be positive, got {spacing}"
+                )));
+            }
+            if !(friction > 0.0 && friction.is_finite()) || steps == 0 {
+                return Err(Error::input(format!(
+                    "--friction must be positive (got {friction}) and --steps at least 1 (got {steps})"
+                )));
+            }
+            if case == FrictionCase::Sliding {
+                let mut rows = Vec::new();
+                for (k, &slope) in slope.iter().enumerate() {
+                    let block = f::SlidingBlock {
+                        slope,
+                        friction,
+                        spacing,
+                        end_time: 0.1,
+                    };
+                    let r = f::run_sliding(&block, &output.join(format!("slope_{k}")), quiet)?;
+                    if !json {
+                        print!("{}", r.to_text());
+                    }
+                    rows.push(r);
+                }
+                if json {
+                    print_report(true, &rows, String::new);
+                }
+                return Ok(Outcome::Done);
+            }
+            let mut scene = f::MindlinScene {
+                contact_radius: 0.15,
+                spacing,
+                friction,
+                push: 0.0,
+                steps,
+                rigid_flat,
+            };
+            scene.push = push * scene.full_slip_travel();
+            let r = f::run_mindlin(&scene, &output, quiet)?;
             print_report(json, &r, || r.to_text());
             Ok(Outcome::Done)
         }

@@ -471,6 +471,7 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                     Vec3::z()
                 },
                 displacement: Vec3::from(spec.displacement.unwrap_or([0.0; 3])),
+                ramp: spec.ramp,
                 mass: spec.mass.unwrap_or(0.0),
                 translation: Vec3::zeros(),
                 axial_speed: 0.0,

@@ -116,6 +116,38 @@ pub struct PdBody {
     /// The bonds' failure state, where bonds may fail or a pre-crack cut some
     /// ([`fracture`]); `None`: every bond holds for good.
     pub fracture: Option<Fracture>,
+    /// Friction's part of the contact forces, where the body is in a pair with friction
+    /// (METHOD.md §10); `None` otherwise.
+    pub friction: Option<FrictionForces>,
+}
+
+/// A body's friction forces in the last evaluation, per particle.
+#[derive(Clone, Debug, Default)]
+pub struct FrictionForces {
+    /// The tangential part of `contact_force`, N.
+    pub force: Vec<Vec3>,
+    /// The part of `force` that reactions as a master brought.
+    pub reaction: Vec<Vec3>,
+    /// As a slave: 1 sticking, 0 slipping, −1 not in contact.
+    pub stick: Vec<i8>,
+}
+
+impl FrictionForces {
+    /// Zeroed for `n` particles.
+    pub fn new(n: usize) -> FrictionForces {
+        FrictionForces {
+            force: vec![Vec3::zeros(); n],
+            reaction: vec![Vec3::zeros(); n],
+            stick: vec![-1; n],
+        }
+    }
+
+    /// Zeroes the forces and the states before an evaluation.
+    pub fn reset(&mut self) {
+        self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
+        self.reaction.iter_mut().for_each(|f| *f = Vec3::zeros());
+        self.stick.iter_mut().for_each(|s| *s = -1);
+    }
 }
 
 impl PdBody {
@@ -124,18 +156,41 @@ impl PdBody {
     /// by volume, as it is; a master's reactions, which Eq. 20's shape functions lump by the
     /// tributary area `A_i` (`F_a = ∫ N_a p dA ≈ p A_a`), scaled by `A*_i / A_i`, so that
     /// `pressure_force / A*_i` is the traction on either side of a pair.
+    /// With friction, its tangential part is left out: the normal force alone.
     pub fn pressure_force(&self, i: usize) -> f64 {
-        let reaction = self.reaction_force[i];
+        let (t, tr) = self
+            .friction
+            .as_ref()
+            .map_or((Vec3::zeros(), Vec3::zeros()), |f| {
+                (f.force[i], f.reaction[i])
+            });
+        let reaction = self.reaction_force[i] - tr;
         if reaction == Vec3::zeros() {
-            return self.contact_force[i].norm();
+            return (self.contact_force[i] - t).norm();
         }
+        let scale = self.reaction_scale(i);
+        (self.contact_force[i] - t - reaction + reaction * scale).norm()
+    }
+
+    /// `A*_i / A_i`: what turns a master's reactions, lumped by tributary area, into the
+    /// force of its pressure area ([`Self::pressure_force`]).
+    fn reaction_scale(&self, i: usize) -> f64 {
         let tributary = self.case.segments.tributary_area[i];
-        let scale = if tributary > 0.0 {
+        if tributary > 0.0 {
             self.case.segments.pressure_area[i] / tributary
         } else {
             1.0
+        }
+    }
+
+    /// Friction's force on particle `i` as its pressure area carries it (the reactions
+    /// scaled as in [`Self::pressure_force`]): over `A*_i`, the shear traction (zero without
+    /// friction).
+    pub fn friction_force(&self, i: usize) -> Vec3 {
+        let Some(f) = &self.friction else {
+            return Vec3::zeros();
         };
-        (self.contact_force[i] - reaction + reaction * scale).norm()
+        f.force[i] - f.reaction[i] + f.reaction[i] * self.reaction_scale(i)
     }
 
     /// Number of particles.
@@ -230,6 +285,7 @@ impl PdBody {
             contact_stiffness: vec![0.0; n],
             owned: 0..n,
             fracture: None,
+            friction: None,
             pairs: PairList::from_bonds(
                 bonds,
                 &bond_weight,
@@ -339,6 +395,9 @@ pub struct RigidBody {
     /// The whole prescribed displacement (`Motion::Displacement`), reached at the last load
     /// increment.
     pub displacement: Vec3,
+    /// The share of the load path over which it moves (`None`: all of it;
+    /// [`crate::scene::ramp_factor`]).
+    pub ramp: Option<[f64; 2]>,
     /// Mass (`Motion::Free`, explicit runs).
     pub mass: f64,
     /// Current translation from the reference position.

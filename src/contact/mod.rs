@@ -32,6 +32,7 @@
 
 mod broad;
 pub mod estimate;
+pub mod friction;
 mod law;
 mod narrow;
 pub mod overlap;
@@ -50,6 +51,7 @@ use crate::body::{Body, PdBody, RigidBody};
 use crate::case::segments::MasterSegment;
 use crate::math::Vec3;
 use broad::distinct;
+use friction::{return_map, Anchor};
 use narrow::within_window;
 
 /// Segments around a master node whose normals turn from a segment's by more than this angle
@@ -148,8 +150,17 @@ pub struct ContactPoint {
     pub projection: Projection,
     /// Penetration `δ_p = −g ≥ 0`.
     pub penetration: f64,
-    /// Force on the slave (N).
+    /// Force on the slave (N): the normal force along the master's normal, plus friction's.
     pub force: Vec3,
+    /// The normal part of `force`, N (≥ 0).
+    pub normal_force: f64,
+    /// With friction: whether the slave sticks (`Some(true)`) or slips; `None` without.
+    pub stick: Option<bool>,
+    /// With friction: the energy the tangential penalty holds, `|F_t|² / (2 k_t)`, J.
+    pub tangential_energy: f64,
+    /// With friction: the work slip has dissipated since the committed stick point,
+    /// `μ F_n` times the distance the stick point moved, J.
+    pub slip_work: f64,
 }
 
 /// Slave particles of one body checked against the master segments of another.
@@ -186,6 +197,17 @@ pub struct ContactPass {
     pub deepest_miss: Option<Miss>,
     /// Per slave, the segment it touched in the last evaluation ([`NO_SEGMENT`] if none).
     held: Vec<u32>,
+    /// Coulomb's μ (0: frictionless, and nothing below is kept).
+    pub friction: f64,
+    /// Per slave, its stick point as committed at the end of the last increment or step
+    /// ([`commit_friction`](Self::commit_friction)); `None` out of contact.
+    sticks: Vec<Option<Anchor>>,
+    /// Per slave, the stick point the last evaluation found (what a commit keeps), and the
+    /// work its slip dissipated.
+    trial: Vec<Option<(Anchor, f64)>>,
+    /// Per slave, the work friction has dissipated over the committed increments or steps,
+    /// J (the explicit solver's energy balance).
+    pub friction_work: Vec<f64>,
 }
 
 /// A slave behind a segment by more than the window: the slave, the segment, the gap
@@ -279,7 +301,44 @@ impl ContactPass {
             missed: 0,
             deepest_miss: None,
             held: vec![NO_SEGMENT; slave_count],
+            friction: 0.0,
+            sticks: Vec::new(),
+            trial: Vec::new(),
+            friction_work: Vec::new(),
         }
+    }
+
+    /// The pass with Coulomb friction of coefficient `mu` (METHOD.md §10; 0 leaves it
+    /// frictionless).
+    pub fn with_friction(mut self, mu: f64) -> ContactPass {
+        self.friction = mu;
+        if mu > 0.0 {
+            self.reset_friction();
+        }
+        self
+    }
+
+    /// Keeps the stick points the last evaluation found as the history the next increment
+    /// (ADR) or step (explicit) starts from; a slave out of contact forgets its own.
+    pub fn commit_friction(&mut self) {
+        if self.friction > 0.0 {
+            for ((stick, work), trial) in self
+                .sticks
+                .iter_mut()
+                .zip(&mut self.friction_work)
+                .zip(&self.trial)
+            {
+                *stick = trial.map(|t| t.0);
+                *work += trial.map_or(0.0, |t| t.1);
+            }
+        }
+    }
+
+    /// No stick points and no work, for the slaves the pass holds now.
+    fn reset_friction(&mut self) {
+        self.sticks = vec![None; self.slaves.len()];
+        self.trial = vec![None; self.slaves.len()];
+        self.friction_work = vec![0.0; self.slaves.len()];
     }
 
     /// Finds the contacts of this pass at the current positions (broad phase as needed, then
@@ -303,6 +362,9 @@ impl ContactPass {
     pub fn keep_slaves(&mut self, owned: std::ops::Range<usize>) {
         self.slaves.retain(|&s| owned.contains(&(s as usize)));
         self.held = vec![NO_SEGMENT; self.slaves.len()];
+        if self.friction > 0.0 {
+            self.reset_friction();
+        }
         self.verlet = VerletList::default();
     }
 
@@ -342,69 +404,114 @@ impl ContactPass {
             }
             project_any(p, x, segment.is_triangle())
         };
-        let contact = |s: u32, segment: u32, mut pr: Projection| {
+        let contact = |k: usize, s: u32, segment: u32, mut pr: Projection| {
             pr.normal = self.smooth_normal(view, segment, &pr);
             let d = -pr.gap;
             // A slave on a symmetry plane is only part of its particle.
-            let f = self.weight * sb.case.ghosts.share(s as usize) * self.law.force(d);
-            let point = ContactPoint {
+            let scale = self.weight * sb.case.ghosts.share(s as usize);
+            let f = scale * self.law.force(d);
+            let mut point = ContactPoint {
                 slave: s,
                 segment,
                 projection: pr,
                 penetration: d,
                 force: pr.normal * f,
+                normal_force: f,
+                stick: None,
+                tangential_energy: 0.0,
+                slip_work: 0.0,
             };
-            (Some(point), None)
+            let mut anchor = None;
+            if self.friction > 0.0 {
+                // The contact point on the master, and the stick point: the committed one,
+                // or (a slave that has just touched) the contact point itself.
+                let here = Anchor {
+                    segment,
+                    weights: pr.weights,
+                };
+                let at = here.at(view.corners(segment as usize));
+                let stuck = self.sticks[k].unwrap_or(here);
+                let from = stuck.at(view.corners(stuck.segment as usize));
+                // The tangential penalty: the normal law's stiffness at this penetration, as
+                // ADR's density takes it (a stick that yields as the contact does).
+                let k_t = scale * self.law.relaxation_stiffness(d);
+                let t = return_map(self.friction, f, k_t, pr.normal, at, from);
+                point.force += t.force;
+                point.stick = Some(!t.slip);
+                point.tangential_energy = 0.5 * t.force.norm_squared() / k_t;
+                anchor = Some(match t.moved_to {
+                    None => stuck,
+                    // Carried on the segment the slave touches now, where it lies within
+                    // μ F_n / k_t of the contact point (on its boundary if past an edge).
+                    Some(x) => project_any(
+                        x,
+                        view.corners(segment as usize),
+                        segs[segment as usize].is_triangle(),
+                    )
+                    .map_or(here, |(p, _)| Anchor {
+                        segment,
+                        weights: p.weights,
+                    }),
+                });
+                if let (Some(a), true) = (anchor, t.slip) {
+                    let moved = a.at(view.corners(a.segment as usize)) - from;
+                    point.slip_work =
+                        t.force.norm() * (moved - pr.normal * pr.normal.dot(&moved)).norm();
+                }
+            }
+            let trial = anchor.map(|a| (a, point.slip_work));
+            (Some((point, trial)), None)
         };
-        let results: Vec<(Option<ContactPoint>, Option<Miss>)> = (0..self.slaves.len())
-            .into_par_iter()
-            .map_init(Vec::new, |projections, k| {
-                let s = self.slaves[k];
-                let p = sb.position(s as usize);
-                let (a, b) = (
-                    self.verlet.offsets[k] as usize,
-                    self.verlet.offsets[k + 1] as usize,
-                );
-                // A slave keeps the segment it touched while it stays inside it and within the
-                // window: at a convex master's corner, where the slave's own normal turns with
-                // the distortion around it, the normals cannot tell which face it is pressed on.
-                let held = self.held[k];
-                let kept = (held != NO_SEGMENT)
-                    .then(|| project_on(s, p, held))
-                    .flatten()
-                    .filter(|(pr, outside)| *outside == 0.0 && within_window(pr, window))
-                    .map(|(pr, _)| pr);
-                if let Some(pr) = kept {
-                    return contact(s, held, pr);
-                }
-                // Each candidate is projected once: the inside projections choose the segment,
-                // and all of them serve the rule for concave edges when none does.
-                projections.clear();
-                projections.extend(self.verlet.candidates[a..b].iter().filter_map(|&seg| {
-                    project_on(s, p, seg).map(|(pr, outside)| (seg, pr, outside))
-                }));
-                let normal = std::cell::LazyCell::new(|| slave_normal(sb, s as usize));
-                let inside = projections
-                    .iter()
-                    .filter(|c| c.2 == 0.0)
-                    .map(|&(seg, pr, _)| (seg, pr));
-                match select_segment(inside, || *normal, window) {
-                    Touch::Contact(seg, pr) => contact(s, seg, pr),
-                    Touch::Missed(seg, gap) => (None, Some((s, seg, gap))),
-                    Touch::Clear => match select_across_edge(
-                        p,
-                        projections.iter().copied(),
-                        |seg| segs[seg as usize].nodes,
-                        |seg| view.corners(seg as usize),
-                        || *normal,
-                        window,
-                    ) {
-                        Some((seg, pr)) => contact(s, seg, pr),
-                        None => (None, None),
-                    },
-                }
-            })
-            .collect();
+        let results: Vec<(Option<(ContactPoint, Option<(Anchor, f64)>)>, Option<Miss>)> =
+            (0..self.slaves.len())
+                .into_par_iter()
+                .map_init(Vec::new, |projections, k| {
+                    let s = self.slaves[k];
+                    let p = sb.position(s as usize);
+                    let (a, b) = (
+                        self.verlet.offsets[k] as usize,
+                        self.verlet.offsets[k + 1] as usize,
+                    );
+                    // A slave keeps the segment it touched while it stays inside it and within the
+                    // window: at a convex master's corner, where the slave's own normal turns with
+                    // the distortion around it, the normals cannot tell which face it is pressed on.
+                    let held = self.held[k];
+                    let kept = (held != NO_SEGMENT)
+                        .then(|| project_on(s, p, held))
+                        .flatten()
+                        .filter(|(pr, outside)| *outside == 0.0 && within_window(pr, window))
+                        .map(|(pr, _)| pr);
+                    if let Some(pr) = kept {
+                        return contact(k, s, held, pr);
+                    }
+                    // Each candidate is projected once: the inside projections choose the segment,
+                    // and all of them serve the rule for concave edges when none does.
+                    projections.clear();
+                    projections.extend(self.verlet.candidates[a..b].iter().filter_map(|&seg| {
+                        project_on(s, p, seg).map(|(pr, outside)| (seg, pr, outside))
+                    }));
+                    let normal = std::cell::LazyCell::new(|| slave_normal(sb, s as usize));
+                    let inside = projections
+                        .iter()
+                        .filter(|c| c.2 == 0.0)
+                        .map(|&(seg, pr, _)| (seg, pr));
+                    match select_segment(inside, || *normal, window) {
+                        Touch::Contact(seg, pr) => contact(k, s, seg, pr),
+                        Touch::Missed(seg, gap) => (None, Some((s, seg, gap))),
+                        Touch::Clear => match select_across_edge(
+                            p,
+                            projections.iter().copied(),
+                            |seg| segs[seg as usize].nodes,
+                            |seg| view.corners(seg as usize),
+                            || *normal,
+                            window,
+                        ) {
+                            Some((seg, pr)) => contact(k, s, seg, pr),
+                            None => (None, None),
+                        },
+                    }
+                })
+                .collect();
         self.missed = results.iter().filter(|r| r.1.is_some()).count();
         // The deepest, the first of equals: the same over any number of threads.
         self.deepest_miss = results.iter().filter_map(|r| r.1).fold(
@@ -415,9 +522,17 @@ impl ContactPass {
             },
         );
         for (held, r) in self.held.iter_mut().zip(&results) {
-            *held = r.0.as_ref().map_or(NO_SEGMENT, |c| c.segment);
+            *held = r.0.as_ref().map_or(NO_SEGMENT, |c| c.0.segment);
         }
-        self.contacts = results.into_iter().filter_map(|r| r.0).collect();
+        if self.friction > 0.0 {
+            for (t, r) in self.trial.iter_mut().zip(&results) {
+                *t = r.0.and_then(|c| c.1);
+            }
+        }
+        self.contacts = results
+            .into_iter()
+            .filter_map(|r| r.0.map(|c| c.0))
+            .collect();
     }
 
     /// The direction of a contact's force: the master's normal interpolated at the slave's
@@ -494,6 +609,12 @@ impl ContactPass {
                     mb.reaction_force[n] += f;
                     mb.contact_stiffness[n] += k;
                 }
+                if let Some(fr) = &mut mb.friction {
+                    for (n, t) in self.friction_reactions(&mb.case.segments.segments) {
+                        fr.force[n as usize] += t;
+                        fr.reaction[n as usize] += t;
+                    }
+                }
             }
             Body::Rigid(rb) => {
                 for g in self.block_sums(Some(rb.axis)) {
@@ -527,13 +648,53 @@ impl ContactPass {
                 sb.contact_stiffness[s as usize] += may_touch;
             }
         }
+        let factor = self.stiffness_factor();
         for c in &self.contacts {
             sb.force[c.slave as usize] += c.force;
             sb.contact_force[c.slave as usize] += c.force;
             // A contact is found among its slave's candidates, so the slave holds `may_touch`.
             sb.contact_stiffness[c.slave as usize] +=
-                self.weight * self.law.relaxation_stiffness(c.penetration) - may_touch;
+                self.weight * self.law.relaxation_stiffness(c.penetration) * factor - may_touch;
+            if let (Some(fr), Some(stick)) = (&mut sb.friction, c.stick) {
+                let s = c.slave as usize;
+                fr.force[s] += c.force - c.projection.normal * c.normal_force;
+                // Slipping in any pair reads as slipping.
+                let state = i8::from(stick);
+                fr.stick[s] = if fr.stick[s] < 0 {
+                    state
+                } else {
+                    fr.stick[s].min(state)
+                };
+            }
         }
+    }
+
+    /// What a contact's stiffness counts in ADR's density: its normal tangent, twice with
+    /// friction (the tangential penalty is as stiff, across the normal).
+    fn stiffness_factor(&self) -> f64 {
+        if self.friction > 0.0 {
+            2.0
+        } else {
+            1.0
+        }
+    }
+
+    /// Friction's part of [`reactions`](Self::reactions): `(node, tangential force)`.
+    pub fn friction_reactions<'a>(
+        &'a self,
+        segments: &'a [MasterSegment],
+    ) -> impl Iterator<Item = (u32, Vec3)> + 'a {
+        self.contacts
+            .iter()
+            .filter(|c| c.stick.is_some())
+            .flat_map(move |c| {
+                let nodes = segments[c.segment as usize].nodes;
+                let t = c.force - c.projection.normal * c.normal_force;
+                (0..4).filter_map(move |k| {
+                    let w = c.projection.weights[k];
+                    (w != 0.0).then(|| (nodes[k], -(t * w)))
+                })
+            })
     }
 
     /// The reactions on a deformable master of segments `segments`, in the order [`apply`](Self::apply) adds
@@ -546,7 +707,9 @@ impl ContactPass {
     ) -> impl Iterator<Item = (u32, Vec3, f64)> + 'a {
         self.contacts.iter().flat_map(move |c| {
             let nodes = segments[c.segment as usize].nodes;
-            let tangent = self.weight * self.law.relaxation_stiffness(c.penetration);
+            let tangent = self.weight
+                * self.law.relaxation_stiffness(c.penetration)
+                * self.stiffness_factor();
             (0..4).filter_map(move |k| {
                 let w = c.projection.weights[k];
                 (w != 0.0).then(|| (nodes[k], -(c.force * w), tangent * w.abs()))
@@ -558,6 +721,15 @@ impl ContactPass {
     /// `F δ / 2` (linear). The force applied, so that a slave on a symmetry plane counts only
     /// its share, as its force does.
     pub fn energy(&self, c: &ContactPoint) -> f64 {
+        // Without friction the force is the normal one (its norm, as always measured).
+        if self.friction > 0.0 {
+            let f = c.normal_force;
+            return c.tangential_energy
+                + match self.law.law {
+                    crate::scene::PenaltyLaw::Hertz => 0.4 * f * c.penetration,
+                    crate::scene::PenaltyLaw::Linear => 0.5 * f * c.penetration,
+                };
+        }
         let f = c.force.norm();
         match self.law.law {
             crate::scene::PenaltyLaw::Hertz => 0.4 * f * c.penetration,

@@ -225,6 +225,19 @@ impl Domain {
                     out[q].extend([f64::from(n), f.x, f.y, f.z, k]);
                     out[q][heads[q]] += 1.0;
                 }
+                // With friction, its part of the reactions for the frames:
+                // `[count, (node, tx, ty, tz) × count]`.
+                if p.friction > 0.0 {
+                    let heads: Vec<usize> = out.iter().map(Vec::len).collect();
+                    for o in &mut out {
+                        o.push(0.0);
+                    }
+                    for (n, t) in p.friction_reactions(&mb.case.segments.segments) {
+                        let q = owner(ranges, n as usize);
+                        out[q].extend([f64::from(n), t.x, t.y, t.z]);
+                        out[q][heads[q]] += 1.0;
+                    }
+                }
             }
             self.comm.exchange(&out)
         } else {
@@ -250,6 +263,18 @@ impl Domain {
                     mb.contact_stiffness[n] += r[4];
                 }
                 at[q] += 5 * count;
+                if p.friction > 0.0 {
+                    let count = part[at[q]] as usize;
+                    at[q] += 1;
+                    if let Some(fr) = &mut mb.friction {
+                        for r in part[at[q]..at[q] + 4 * count].chunks_exact(4) {
+                            let t = Vec3::new(r[1], r[2], r[3]);
+                            fr.force[r[0] as usize] += t;
+                            fr.reaction[r[0] as usize] += t;
+                        }
+                    }
+                    at[q] += 4 * count;
+                }
             }
         }
         // Per pass: contacts, missed contacts, then the block sums of its slaves' forces
@@ -451,6 +476,39 @@ impl Domain {
                     pd.contact_force[i] = v3(9);
                     pd.reaction_force[i] = v3(12);
                     pd.contact_stiffness[i] = s[15];
+                }
+            }
+        }
+        // Friction's forces and states, where a body has them.
+        if !bodies
+            .iter()
+            .any(|b| b.as_pd().is_some_and(|pd| pd.friction.is_some()))
+        {
+            return;
+        }
+        let mut mine = Vec::new();
+        for (k, body) in bodies.iter().enumerate() {
+            let Some(f) = body.as_pd().and_then(|pd| pd.friction.as_ref()) else {
+                continue;
+            };
+            for i in self.ranges[k][rank].clone() {
+                mine.extend(f.force[i].iter());
+                mine.extend(f.reaction[i].iter());
+                mine.push(f64::from(f.stick[i]));
+            }
+        }
+        let all = self.comm.all_gather_varcount(&mine);
+        for (q, part) in all.iter().enumerate() {
+            let mut values = part.chunks_exact(7);
+            for (k, body) in bodies.iter_mut().enumerate() {
+                let Some(f) = body.as_pd_mut().and_then(|pd| pd.friction.as_mut()) else {
+                    continue;
+                };
+                for i in self.ranges[k][q].clone() {
+                    let s = values.next().expect("every owner sends its whole range");
+                    f.force[i] = Vec3::new(s[0], s[1], s[2]);
+                    f.reaction[i] = Vec3::new(s[3], s[4], s[5]);
+                    f.stick[i] = s[6] as i8;
                 }
             }
         }

@@ -4,12 +4,14 @@
 //! with the surface and volume corrections), applied loads, and contact forces.
 
 pub mod domain;
+pub mod path;
 
 use std::sync::Arc;
 
 use rayon::prelude::*;
 
 use self::domain::Domain;
+use self::path::{LoadPath, Prescribed, RampedLoad};
 
 use crate::body::lps::Stretch;
 use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
@@ -35,6 +37,8 @@ pub struct Model {
     positions: Vec<Vec<Vec3>>,
     /// This rank's part, in a run decomposed over several processes.
     pub domain: Option<Domain>,
+    /// Ramped loads and prescribed displacements along a quasi-static load path.
+    pub path: LoadPath,
 }
 
 impl Model {
@@ -45,6 +49,7 @@ impl Model {
             bodies.push(build_body(scene, spec)?);
         }
         let index = |name: &str| scene.bodies.iter().position(|b| b.name == name);
+        let mut path = LoadPath::default();
 
         for load in &scene.loads {
             let k = index(&load.body).ok_or_else(|| scene.error_at(&load.body, "no such body"))?;
@@ -58,6 +63,14 @@ impl Model {
                         ));
                     }
                     rb.load += force;
+                    if let Some(ramp) = load.ramp {
+                        path.ramped.push(RampedLoad {
+                            body: k,
+                            ramp,
+                            parts: Vec::new(),
+                            whole: force,
+                        });
+                    }
                 }
                 Body::Deformable(pd) => {
                     let particles = match &load.set {
@@ -68,9 +81,20 @@ impl Model {
                         .iter()
                         .map(|&p| pd.case.particles.volume[p as usize])
                         .sum();
-                    for &p in &particles {
-                        pd.load[p as usize] +=
-                            force * (pd.case.particles.volume[p as usize] / total);
+                    let parts: Vec<(u32, Vec3)> = particles
+                        .iter()
+                        .map(|&p| (p, force * (pd.case.particles.volume[p as usize] / total)))
+                        .collect();
+                    for &(p, f) in &parts {
+                        pd.load[p as usize] += f;
+                    }
+                    if let Some(ramp) = load.ramp {
+                        path.ramped.push(RampedLoad {
+                            body: k,
+                            ramp,
+                            parts,
+                            whole: Vec3::zeros(),
+                        });
                     }
                 }
             }
@@ -95,8 +119,17 @@ impl Model {
                     .collect(),
                 (None, None) => Vec::new(),
             };
-            for p in particles {
+            for &p in &particles {
                 pd.fixed[p as usize] |= mask;
+            }
+            if let Some(d) = c.displacement {
+                path.prescribed.push(Prescribed {
+                    body: k,
+                    particles,
+                    mask,
+                    displacement: Vec3::from(d),
+                    ramp: c.ramp,
+                });
             }
         }
 
@@ -123,8 +156,15 @@ impl Model {
                     stiffness: hertz_stiffness(m_slave, m_master, radius),
                     window: WINDOW * sb.spacing(),
                 };
-                ContactPass::new(bodies, s, m, law, weight)
+                ContactPass::new(bodies, s, m, law, weight).with_friction(c.friction)
             };
+            if c.friction > 0.0 {
+                for k in [s, m] {
+                    if let Some(pd) = bodies[k].as_pd_mut() {
+                        pd.friction = Some(crate::body::FrictionForces::new(pd.len()));
+                    }
+                }
+            }
             let two = c.two_pass && scene.bodies[m].kind == BodyKind::Deformable;
             let w = if two { 0.5 } else { 1.0 };
             passes.push(add(s, m, w, &bodies));
@@ -146,6 +186,7 @@ impl Model {
             evaluations: 0,
             positions,
             domain: None,
+            path,
         })
     }
 
@@ -366,6 +407,14 @@ impl Model {
         }
     }
 
+    /// Keeps the stick points of every pass with friction as the history the next
+    /// increment or step starts from ([`ContactPass::commit_friction`]).
+    pub fn commit_friction(&mut self) {
+        for pass in &mut self.passes {
+            pass.commit_friction();
+        }
+    }
+
     /// Sum of the applied loads on all bodies.
     pub fn applied_load(&self) -> Vec3 {
         self.bodies
@@ -486,6 +535,9 @@ fn internal_forces_with(
         .iter_mut()
         .for_each(|f| *f = Vec3::zeros());
     pd.contact_stiffness.iter_mut().for_each(|k| *k = 0.0);
+    if let Some(f) = &mut pd.friction {
+        f.reset();
+    }
 }
 
 /// Particles of a named set of a body's mesh (its corner nodes that are particles).

@@ -499,6 +499,28 @@ fn point_fields(
             at.iter().map(|&i| pd.damage(i)).collect(),
         ));
     }
+    // Where the body is in a pair with friction: the shear traction (friction's force over
+    // the particle's pressure area, as `particle_pressure` takes the normal one) and whether
+    // it sticks (1), slips (0) or touches nothing as a slave (−1).
+    if let Some(f) = &pd.friction {
+        fields.push(Field::vector(
+            "friction_traction",
+            at.iter()
+                .map(|&i| {
+                    let area = case.segments.pressure_area[i];
+                    if area > 0.0 {
+                        pd.friction_force(i) / area
+                    } else {
+                        Vec3::zeros()
+                    }
+                })
+                .collect(),
+        ));
+        fields.push(Field::int(
+            "stick",
+            at.iter().map(|&i| i32::from(f.stick[i])).collect(),
+        ));
+    }
     fields
 }
 

@@ -25,7 +25,7 @@ use crate::output::vtk::write_atomically;
 use crate::output::{FrameWriter, RunMonitor};
 use crate::parallel::Comm;
 use crate::scene::{Motion, Scene, SolverKind};
-use crate::solver::{solve, RunStats};
+use crate::solver::{solve, Monitor, RunStats};
 
 /// Options of a run.
 #[derive(Clone, Debug, Default)]
@@ -99,6 +99,9 @@ pub struct RunSummary {
     /// Bodies whose bonds may fail or were cut by a pre-crack: what broke.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub fracture: Vec<report::FractureReport>,
+    /// Bodies in a pair with friction: their tangential force and stick area.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub friction: Vec<report::FrictionReport>,
     /// A run over several MPI ranks: what each owned and received.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub decomposition: Option<Layout>,
@@ -244,6 +247,40 @@ pub fn check_scene(scene: &Scene) -> Result<(Model, Vec<String>, Vec<ContactReso
 
 /// Runs a scene; writes frames and `summary.json` into the output folder.
 pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSummary)> {
+    run_scene_with(scene, options, &mut crate::solver::Silent)
+}
+
+/// Two monitors in one: the run's own (frames, progress), then an observer's.
+struct Tee<'a> {
+    run: &'a mut dyn Monitor,
+    observer: &'a mut dyn Monitor,
+}
+
+impl Monitor for Tee<'_> {
+    fn step(&mut self, model: &Model, step: usize, time: f64, measure: f64) -> Result<()> {
+        self.run.step(model, step, time, measure)?;
+        self.observer.step(model, step, time, measure)
+    }
+    fn load_increment(&mut self, model: &Model, factor: f64, iteration: usize) -> Result<()> {
+        self.run.load_increment(model, factor, iteration)?;
+        self.observer.load_increment(model, factor, iteration)
+    }
+    fn finish(&mut self, model: &Model, step: usize, time: f64) -> Result<()> {
+        self.run.finish(model, step, time)?;
+        self.observer.finish(model, step, time)
+    }
+    fn interrupted(&self) -> bool {
+        self.run.interrupted() || self.observer.interrupted()
+    }
+}
+
+/// [`run_scene`], with `observer` shown every step, load increment and the end as the run's
+/// own monitor is (a study that follows a run as it goes: a history, each increment's state).
+pub fn run_scene_with(
+    scene: &Scene,
+    options: &RunOptions,
+    observer: &mut dyn Monitor,
+) -> Result<(Model, RunSummary)> {
     let start = Instant::now();
     let folder = options
         .output
@@ -279,7 +316,14 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
         stop,
     );
     let solve_start = Instant::now();
-    let result = solve(&mut model, &scene.solver, &mut monitor);
+    let result = solve(
+        &mut model,
+        &scene.solver,
+        &mut Tee {
+            run: &mut monitor,
+            observer,
+        },
+    );
     let solve_seconds = solve_start.elapsed().as_secs_f64();
     let summary_path = folder.join("summary.json");
     let (stats, error) = match result {
@@ -375,6 +419,7 @@ pub fn run_scene(scene: &Scene, options: &RunOptions) -> Result<(Model, RunSumma
         },
         interrupted: stats.interrupted,
         fracture: report::fracture_reports(&model),
+        friction: report::friction_reports(&model),
         decomposition,
         solver: stats,
         error: error.as_ref().map(ToString::to_string),

@@ -178,3 +178,46 @@ pub fn fracture_reports(model: &Model) -> Vec<FractureReport> {
         })
         .collect()
 }
+
+/// Friction in a body of a pair with friction (`summary.json`): its tangential contact force
+/// and how much of its contact sticks.
+#[derive(Clone, Debug, Serialize)]
+pub struct FrictionReport {
+    pub body: String,
+    /// The tangential part of the contact forces on the body (as slave and as master), N.
+    pub tangential_force: [f64; 3],
+    /// Its slave particles in contact that stick and that slip.
+    pub sticking: usize,
+    pub slipping: usize,
+    /// The pressure areas of those particles, m² (in a model cut by symmetry planes, of the
+    /// model's part).
+    pub stick_area: f64,
+    pub slip_area: f64,
+}
+
+/// The [`FrictionReport`] of each body in a pair with friction.
+pub fn friction_reports(model: &Model) -> Vec<FrictionReport> {
+    model
+        .bodies
+        .iter()
+        .filter_map(Body::as_pd)
+        .filter_map(|pd| {
+            let f = pd.friction.as_ref()?;
+            let area = |state: i8| {
+                let on: Vec<usize> = (0..pd.len()).filter(|&i| f.stick[i] == state).collect();
+                let a: f64 = on.iter().map(|&i| pd.case.segments.pressure_area[i]).sum();
+                (on.len(), a)
+            };
+            let (sticking, stick_area) = area(1);
+            let (slipping, slip_area) = area(0);
+            Some(FrictionReport {
+                body: pd.name.clone(),
+                tangential_force: f.force.iter().sum::<crate::math::Vec3>().into(),
+                sticking,
+                slipping,
+                stick_area,
+                slip_area,
+            })
+        })
+        .collect()
+}

@@ -330,6 +330,7 @@ impl Scene {
             }
         }
         self.check_precracks(&body)?;
+        self.check_path()?;
         for (k, c) in self.contacts.iter().enumerate() {
             let same = |o: &super::ContactSpec| {
                 (o.slave == c.slave && o.master == c.master)

@@ -16,6 +16,7 @@ use serde::{Deserialize, Serialize};
 
 mod check;
 mod check_fracture;
+mod check_path;
 
 pub(crate) use check::{box_corner, memory_limit};
 
@@ -245,6 +246,21 @@ pub struct BodySpec {
     /// Rigid bodies with `motion = "displacement"`: the total displacement, m.
     #[serde(default, deserialize_with = "three_opt")]
     pub displacement: Option<[f64; 3]>,
+    /// Rigid bodies with `motion = "displacement"`: the share of the load path over which it
+    /// moves ([`Ramp`]; default `[0, 1]`, the whole path).
+    pub ramp: Option<[f64; 2]>,
+}
+
+/// Where a load, a prescribed displacement or a driven body's motion rises along a
+/// quasi-static run's load path: `[start, end]` in the load factor λ ∈ [0, 1] that ADR's
+/// `load_steps` advance; zero before `start`, linear between, whole after `end`. A sphere
+/// pressed by P and then pushed sideways by Q (Cattaneo-Mindlin): the normal load on
+/// `[0, 0.5]`, the tangential one on `[0.5, 1]`.
+pub fn ramp_factor(ramp: Option<[f64; 2]>, lambda: f64) -> f64 {
+    match ramp {
+        None => lambda,
+        Some([a, b]) => ((lambda - a) / (b - a)).clamp(0.0, 1.0),
+    }
 }
 
 /// A built-in shape.
@@ -353,6 +369,9 @@ pub struct LoadSpec {
     /// Total force, N.
     #[serde(deserialize_with = "three")]
     pub force: [f64; 3],
+    /// The share of the load path over which it is applied ([`ramp_factor`]; default
+    /// `[0, 1]`).
+    pub ramp: Option<[f64; 2]>,
 }
 
 /// `[[constraint]]`: fixed displacement components of a set, or of the one particle nearest a
@@ -369,8 +388,14 @@ pub struct ConstraintSpec {
     /// sphere pressed on another, held sideways), with a reaction near zero.
     #[serde(default, deserialize_with = "three_opt")]
     pub nearest: Option<[f64; 3]>,
-    /// Components held at zero: any of "x", "y", "z".
+    /// Components held: any of "x", "y", "z"; at zero, or at `displacement`.
     pub fix: Vec<Axis>,
+    /// The displacement the held components are brought to, m (quasi-static runs: along the
+    /// load path, [`ramp_factor`]); components not held must be 0.
+    #[serde(default, deserialize_with = "three_opt")]
+    pub displacement: Option<[f64; 3]>,
+    /// The share of the load path over which `displacement` is applied (default `[0, 1]`).
+    pub ramp: Option<[f64; 2]>,
 }
 
 /// `[[precrack]]`: a planar crack in a body's reference configuration, a rectangle centred at
@@ -484,6 +509,10 @@ pub struct ContactSpec {
     /// Contact method: "point-to-surface" (default) or "short-range".
     #[serde(default)]
     pub method: ContactMethod,
+    /// Coulomb's friction coefficient μ (default 0: frictionless; METHOD.md §10,
+    /// [`crate::contact::friction`]).
+    #[serde(default)]
+    pub friction: f64,
 }
 
 /// How a contact pair is resolved.

@@ -157,13 +157,8 @@ pub fn adr(
         if steps > 1 {
             scale_loads(model, &full, scale);
         }
-        for b in &mut model.bodies {
-            if let Body::Rigid(rb) = b {
-                if rb.motion == Motion::Displacement {
-                    rb.translation = rb.displacement * scale;
-                }
-            }
-        }
+        // Driven bodies, prescribed displacements and ramped loads along the path.
+        model.path.apply(&mut model.bodies, scale);
         model.gather();
         monitor.load_increment(model, scale, n)?;
         n = adr_increment(
@@ -175,6 +170,8 @@ pub fn adr(
             monitor,
             &mut stats,
         )?;
+        // The next increment's friction starts from the stick points this one ended with.
+        model.commit_friction();
         record_increment(model, scale, n, &mut stats);
         if !stats.converged || stats.interrupted {
             break;

@@ -151,12 +151,23 @@ fn energies(model: &Model, dissipated: &[Vec<f64>]) -> (f64, f64, f64) {
             e[s as usize] += energy;
         }
     }
+    // The work friction has dissipated, on each slave (committed steps, and this step's).
+    let mut slid: Vec<Vec<f64>> = vec![Vec::new(); model.bodies.len()];
+    for p in model.passes.iter().filter(|p| p.friction > 0.0) {
+        let e = &mut slid[p.slave];
+        if e.is_empty() {
+            e.resize(model.bodies[p.slave].as_pd().map_or(0, PdBody::len), 0.0);
+        }
+        for (&s, w) in p.slaves.iter().zip(&p.friction_work) {
+            e[s as usize] += w;
+        }
+    }
     let mut mine = Vec::new();
     let mut pos = Vec::new();
     for (k, b) in model.bodies.iter().enumerate() {
         let Body::Deformable(pd) = b else { continue };
         pd.extended_positions(&mut pos);
-        let (contact, dissipated) = (&contact[k], &dissipated[k]);
+        let (contact, dissipated, slid) = (&contact[k], &dissipated[k], &slid[k]);
         let blocks = block_sums(
             pd.owned.clone(),
             || [0.0; 3],
@@ -166,7 +177,7 @@ fn energies(model: &Model, dissipated: &[Vec<f64>]) -> (f64, f64, f64) {
                         + pd.strain_energy_of(i, &pos)
                         + contact.get(i).copied().unwrap_or(0.0),
                     pd.load[i].dot(&pd.u[i]),
-                    dissipated.get(i).copied().unwrap_or(0.0),
+                    dissipated.get(i).copied().unwrap_or(0.0) + slid.get(i).copied().unwrap_or(0.0),
                 ]
             },
             add3,
@@ -245,6 +256,7 @@ pub fn explicit(
         .fold(0.0, f64::max);
 
     model.compute_forces();
+    model.commit_friction();
     let (e0_phys, w0, _) = energies(model, &dissipated);
     let mut e0 = e0_phys - w0;
     let mut rigid_work = 0.0;
@@ -288,6 +300,8 @@ pub fn explicit(
             }
         }
         model.compute_forces();
+        // Each step starts from the stick points the last one found.
+        model.commit_friction();
         for b in model.bodies.iter_mut() {
             match b {
                 Body::Deformable(pd) => {

@@ -16,6 +16,7 @@ pub mod bench;
 pub mod comparison;
 pub mod demo;
 pub mod fracture;
+pub mod friction;
 pub mod scenarios;
 pub mod stability;
 pub mod sweep;

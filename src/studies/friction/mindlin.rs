@@ -1,0 +1,365 @@
+//! Cattaneo-Mindlin (METHOD.md §10, Johnson §7.1): a sphere pressed by P into a block of the
+//! same material (Dundurs β = 0, where the theory is exact), then pushed sideways: the contact
+//! sticks in a disc of radius `c = a (1 − Q/(μP))^{1/3}` and slips in the annulus around it,
+//! where the shear traction is `μ p`.
+//!
+//! The sphere is the shell sector of `validate`'s Hertz sphere (R = 1 m, E = 1 GPa, ν = 1/4),
+//! the block 6a × 3a × 3a fixed at its bottom, both halved by the symmetry plane y = 0 (the
+//! push is along x). P is a load on the sector's inner face over the first half of the load
+//! path; over the second half that face is moved along x by a prescribed displacement, so
+//! that the tangential force Q comes out as the contact's reaction, increment by increment,
+//! and each increment is a point of the theory's curve.
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use super::run_in;
+use crate::body::PdBody;
+use crate::error::{Error, Result};
+use crate::model::Model;
+use crate::solver::Monitor;
+use crate::studies::scenarios::{DENSITY, PAPER_E_STAR, POISSON, YOUNGS};
+
+/// The sphere's radius, m.
+const RADIUS: f64 = 1.0;
+
+/// One Cattaneo-Mindlin scene.
+#[derive(Clone, Debug)]
+pub struct MindlinScene {
+    /// Hertz's contact radius under P, m.
+    pub contact_radius: f64,
+    /// Grid spacing Δ, m.
+    pub spacing: f64,
+    /// Coulomb's μ.
+    pub friction: f64,
+    /// The inner face's travel along x over the push, m.
+    pub push: f64,
+    /// Load increments of each half of the path.
+    pub steps: usize,
+    /// `true`: the block is rigid (a flat, where the theory holds approximately: β ≠ 0).
+    pub rigid_flat: bool,
+}
+
+impl MindlinScene {
+    /// E* of the pair.
+    fn e_star(&self) -> f64 {
+        if self.rigid_flat {
+            YOUNGS / (1.0 - POISSON * POISSON)
+        } else {
+            PAPER_E_STAR
+        }
+    }
+
+    /// The whole normal load P, N (Hertz: `4 E* a³ / (3R)`).
+    pub fn load(&self) -> f64 {
+        4.0 * self.e_star() * self.contact_radius.powi(3) / (3.0 * RADIUS)
+    }
+
+    /// Hertz's peak pressure, Pa.
+    pub fn peak_pressure(&self) -> f64 {
+        2.0 * self.e_star() * self.contact_radius / (std::f64::consts::PI * RADIUS)
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> String {
+        let a = self.contact_radius;
+        let hw = 3.0 * a;
+        let block = if self.rigid_flat {
+            format!(
+                "[[body]]\nname = \"block\"\nkind = \"rigid\"\ngenerator = {{ shape = \"plane\", point = [0.0, 0.0, -{RADIUS}], normal = [0.0, 0.0, 1.0], size = {s} }}\n",
+                s = 4.0 * hw
+            )
+        } else {
+            format!(
+                r#"[[body]]
+name = "block"
+generator = {{ shape = "box", min = [-{hw}, 0.0, {bottom}], max = [{hw}, {hw}, -{RADIUS}], spacing = {dx} }}
+kinematics = "small"
+{mat}
+[[constraint]]
+body = "block"
+set = "bottom"
+fix = ["x", "y", "z"]
+
+[[symmetry]]
+body = "block"
+axis = "y"
+"#,
+                bottom = -RADIUS - hw,
+                dx = self.spacing,
+                mat = material(),
+            )
+        };
+        let two_pass = if self.rigid_flat {
+            ""
+        } else {
+            "two_pass = true\n"
+        };
+        format!(
+            r#"# Cattaneo-Mindlin: a sphere (R = {RADIUS} m) pressed by P = {p:e} N (a = {a} m) into {what}, then pushed
+# along x by {push:e} m; friction mu = {mu}: `pdcontact friction --case mindlin`.
+[solver]
+kind = "adr"
+tolerance = 1e-5
+max_iterations = 200000
+load_steps = {steps}
+
+[output]
+folder = "."
+every = 1000000
+
+[[body]]
+name = "sphere"
+generator = {{ shape = "sphere_cap", radius = {RADIUS}, half_width = {hw}, depth = {hw}, spacing = {dx} }}
+kinematics = "small"
+{mat}
+[[symmetry]]
+body = "sphere"
+axis = "y"
+
+[[load]]
+body = "sphere"
+set = "top"
+force = [0.0, 0.0, -{half:e}]   # half of P: the model is halved by y = 0
+ramp = [0.0, 0.5]
+
+[[constraint]]
+body = "sphere"
+set = "top"
+fix = ["x"]
+displacement = [{push:e}, 0.0, 0.0]
+ramp = [0.5, 1.0]
+
+{block}
+[[contact]]
+slave = "sphere"
+master = "block"
+radius = 100.0
+friction = {mu}
+{two_pass}"#,
+            p = self.load(),
+            a = self.contact_radius,
+            what = if self.rigid_flat {
+                "a rigid flat"
+            } else {
+                "a block of the same material"
+            },
+            push = self.push,
+            mu = self.friction,
+            steps = 2 * self.steps,
+            dx = self.spacing,
+            mat = material(),
+            half = 0.5 * self.load(),
+        )
+    }
+}
+
+fn material() -> String {
+    format!("[body.material]\nyoungs_modulus = {YOUNGS:e}\npoisson_ratio = {POISSON}\ndensity = {DENSITY}\n")
+}
+
+/// One increment of the push against the theory.
+#[derive(Clone, Debug, Serialize)]
+pub struct MindlinPoint {
+    /// The tangential force over its limit, `Q / (μ P)`, both from the contact.
+    pub ratio: f64,
+    /// The inner face's travel, m.
+    pub push: f64,
+    /// The stick radius over the contact radius, measured (from the areas of the sticking
+    /// and of all touching particles) and by the theory, `(1 − Q/(μP))^{1/3}`.
+    pub stick_ratio: f64,
+    pub theory_stick_ratio: f64,
+    /// The shear traction's mean error within 0.8 a, over `μ p0`.
+    pub shear_mre: f64,
+    /// Particles in contact within 0.8 a.
+    pub samples: usize,
+}
+
+/// What one scene gave.
+#[derive(Clone, Debug, Serialize)]
+pub struct MindlinResult {
+    pub spacing: f64,
+    pub contact_radius: f64,
+    pub friction: f64,
+    pub rigid_flat: bool,
+    pub particles: usize,
+    pub iterations: usize,
+    pub wall_seconds: f64,
+    pub points: Vec<MindlinPoint>,
+}
+
+/// Mindlin's shear traction at radius `r` with stick radius `c`, over `μ p0`.
+pub fn mindlin_shear(r: f64, a: f64, c: f64) -> f64 {
+    let outer = (1.0 - (r / a).powi(2)).max(0.0).sqrt();
+    if r < c {
+        outer - (c / a) * (1.0 - (r / c).powi(2)).max(0.0).sqrt()
+    } else {
+        outer
+    }
+}
+
+/// Follows the push increment by increment.
+struct Push<'a> {
+    scene: &'a MindlinScene,
+    points: Vec<MindlinPoint>,
+}
+
+impl Push<'_> {
+    /// The state at the end of an increment of the push.
+    fn measure(&self, model: &Model) -> Option<MindlinPoint> {
+        let sphere: &PdBody = model.bodies[0].as_pd()?;
+        let f = sphere.friction.as_ref()?;
+        let s = self.scene;
+        let (p_half, q_half) = (
+            sphere.contact_force.iter().map(|v| v.z).sum::<f64>(),
+            sphere.contact_force.iter().map(|v| v.x).sum::<f64>(),
+        );
+        let limit = s.friction * p_half.abs();
+        if !(limit > 0.0) {
+            return None;
+        }
+        let ratio = q_half.abs() / limit;
+        let (mut touching, mut sticking) = (0.0, 0.0);
+        for i in 0..sphere.len() {
+            let area = sphere.case.segments.pressure_area[i];
+            match f.stick[i] {
+                1 => {
+                    touching += area;
+                    sticking += area;
+                }
+                0 => touching += area,
+                _ => {}
+            }
+        }
+        let theory = (1.0 - ratio).max(0.0).cbrt();
+        let a = s.contact_radius;
+        let q0 = s.friction * s.peak_pressure();
+        let (mut err, mut samples) = (0.0, 0usize);
+        for i in 0..sphere.len() {
+            let area = sphere.case.segments.pressure_area[i];
+            if f.stick[i] < 0 || !(area > 0.0) {
+                continue;
+            }
+            let x = sphere.case.particles.position[i];
+            let r = (x.x * x.x + x.y * x.y).sqrt();
+            if r > 0.8 * a {
+                continue;
+            }
+            let q = (sphere.friction_force(i).x / area).abs();
+            err += (q / q0 - mindlin_shear(r, a, theory * a)).abs();
+            samples += 1;
+        }
+        let stick_ratio = if touching > 0.0 {
+            (sticking / touching).sqrt()
+        } else {
+            0.0
+        };
+        let push = model.path.prescribed.first().map_or(0.0, |p| {
+            let i = p.particles.first().copied().unwrap_or(0) as usize;
+            sphere.u[i].x
+        });
+        Some(MindlinPoint {
+            ratio,
+            push,
+            stick_ratio,
+            theory_stick_ratio: theory,
+            shear_mre: err / samples.max(1) as f64,
+            samples,
+        })
+    }
+}
+
+impl Monitor for Push<'_> {
+    fn step(&mut self, _: &Model, _: usize, _: f64, _: f64) -> Result<()> {
+        Ok(())
+    }
+    /// Called before each increment with the state the one before ended in: the push's
+    /// increments are those past the middle of the path.
+    fn load_increment(&mut self, model: &Model, factor: f64, _: usize) -> Result<()> {
+        let half = self.scene.steps as f64;
+        let before = factor - 1.0 / (2.0 * half);
+        if before > 0.5 + 1e-9 {
+            if let Some(p) = self.measure(model) {
+                self.points.push(p);
+            }
+        }
+        Ok(())
+    }
+    fn finish(&mut self, model: &Model, _: usize, _: f64) -> Result<()> {
+        if let Some(p) = self.measure(model) {
+            self.points.push(p);
+        }
+        Ok(())
+    }
+}
+
+/// Runs one scene into `folder`.
+pub fn run_mindlin(scene: &MindlinScene, folder: &Path, quiet: bool) -> Result<MindlinResult> {
+    let mut push = Push {
+        scene,
+        points: Vec::new(),
+    };
+    let (model, summary, wall) = run_in(&scene.scene(), folder, quiet, &mut push)?;
+    if let Some(e) = &summary.error {
+        return Err(Error::numerical(e.clone()));
+    }
+    Ok(MindlinResult {
+        spacing: scene.spacing,
+        contact_radius: scene.contact_radius,
+        friction: scene.friction,
+        rigid_flat: scene.rigid_flat,
+        particles: model.particles(),
+        iterations: summary.iterations,
+        wall_seconds: wall,
+        points: push.points,
+    })
+}
+
+impl MindlinScene {
+    /// Mindlin's tangential travel at full slip, `(3μP/(16a)) Σ (2 − ν)/G`: the relative
+    /// displacement of distant points when Q reaches μP.
+    pub fn full_slip_travel(&self) -> f64 {
+        let g = YOUNGS / (2.0 * (1.0 + POISSON));
+        let bodies = if self.rigid_flat { 1.0 } else { 2.0 };
+        3.0 * self.friction * self.load() / (16.0 * self.contact_radius) * bodies * (2.0 - POISSON)
+            / g
+    }
+}
+
+impl MindlinResult {
+    /// The table a user reads.
+    pub fn to_text(&self) -> String {
+        let mut s = format!(
+            "Cattaneo-Mindlin: sphere R = {RADIUS} m on {}, a = {} m, Δ = {} m (a/Δ = {:.1}), μ = {}; {} particles, {} ADR iterations, {:.1} s\n",
+            if self.rigid_flat {
+                "a rigid flat (β ≠ 0: the theory is approximate)"
+            } else {
+                "a block of the same material (β = 0)"
+            },
+            self.contact_radius,
+            self.spacing,
+            self.contact_radius / self.spacing,
+            self.friction,
+            self.particles,
+            self.iterations,
+            self.wall_seconds
+        );
+        s.push_str(
+            "  Q/(μP)   push (m)    c/a     theory   error (of a)   shear MRE (of μp0, r ≤ 0.8a)\n",
+        );
+        for p in &self.points {
+            s.push_str(&format!(
+                "  {:6.3}   {:9.3e}   {:6.3}   {:6.3}   {:+7.3}        {:6.2} % ({} particles)\n",
+                p.ratio,
+                p.push,
+                p.stick_ratio,
+                p.theory_stick_ratio,
+                p.stick_ratio - p.theory_stick_ratio,
+                100.0 * p.shear_mre,
+                p.samples
+            ));
+        }
+        s
+    }
+}
