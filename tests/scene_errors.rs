@@ -650,3 +650,45 @@ fn fracture_errors() {
         &["kind = \"adr\"", "velocity"],
     );
 }
+
+#[test]
+fn friction_and_load_path_errors() {
+    let with = |key: &str| GOOD.replace("radius = 0.5", &format!("radius = 0.5\n{key}"));
+    assert_error(
+        "negative-friction",
+        &with("friction = -0.1"),
+        "[[contact]]",
+        &["friction", "-0.1"],
+    );
+    assert_error(
+        "percent-friction",
+        &with("friction = 30.0"),
+        "[[contact]]",
+        &["percent"],
+    );
+    let text = with("friction = 0.3").replace("kind = \"adr\"", "kind = \"static\"");
+    assert_error("static-friction", &text, "[[contact]]", &["static", "adr"]);
+    let ramped = |ramp: &str| {
+        GOOD.replace(
+            "force = [0.0, 0.0, -1e5]",
+            &format!("force = [0.0, 0.0, -1e5]\nramp = {ramp}"),
+        )
+    };
+    assert_error(
+        "backward-ramp",
+        &ramped("[0.6, 0.4]"),
+        "[[load]]",
+        &["ramp", "0.6", "0.4"],
+    );
+    let text = ramped("[0.0, 0.5]").replace("kind = \"adr\"", "kind = \"explicit\"\nend_time = 1e-4");
+    assert_error("explicit-ramp", &text, "[[load]]", &["explicit", "adr"]);
+    let text = format!(
+        "{GOOD}\n[[constraint]]\nbody = \"block\"\nset = \"top\"\nfix = [\"x\"]\ndisplacement = [0.0, 0.001, 0.0]\n"
+    );
+    assert_error(
+        "unheld-displacement",
+        &text,
+        "[[constraint]]",
+        &["fix", "along y"],
+    );
+}

@@ -166,14 +166,16 @@ pub struct MindlinPoint {
     pub ratio: f64,
     /// The inner face's travel, m.
     pub push: f64,
-    /// The stick radius over the contact radius, measured (from the areas of the sticking
-    /// and of all touching particles) and by the theory, `(1 − Q/(μP))^{1/3}`.
+    /// The stick radius over Hertz's contact radius, measured ([`stick_radius`]) and by the
+    /// theory, `(1 − Q/(μP))^{1/3}`.
     pub stick_ratio: f64,
     pub theory_stick_ratio: f64,
     /// The shear traction's mean error within 0.8 a, over `μ p0`.
     pub shear_mre: f64,
     /// Particles in contact within 0.8 a.
     pub samples: usize,
+    /// Each particle in contact: its radius over a and its shear traction over μ p0.
+    pub profile: Vec<(f64, f64)>,
 }
 
 /// What one scene gave.
@@ -199,6 +201,41 @@ pub fn mindlin_shear(r: f64, a: f64, c: f64) -> f64 {
     }
 }
 
+/// The stick zone's radius: the circle about the contact's centre (on the sphere as it is
+/// now, `centre` along x) that best parts the sticking particles inside it from the slipping
+/// ones outside, the particles weighted by their pressure areas. A particle is wholly on one
+/// side of the boundary, so this is within half a spacing of it; the share of the areas that
+/// stick would read the slip annulus's ragged edge as stick.
+pub fn stick_radius(sphere: &PdBody, f: &crate::body::FrictionForces, centre: f64) -> f64 {
+    let mut rings: Vec<(f64, bool, f64)> = (0..sphere.len())
+        .filter(|&i| f.stick[i] >= 0)
+        .map(|i| {
+            let x = sphere.case.particles.position[i] + sphere.u[i];
+            (
+                ((x.x - centre).powi(2) + x.y * x.y).sqrt(),
+                f.stick[i] == 1,
+                sphere.case.segments.pressure_area[i],
+            )
+        })
+        .collect();
+    rings.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Misplaced area with the boundary after the k-th particle: slipping inside, sticking
+    // outside.
+    let mut misplaced: f64 = rings.iter().filter(|r| r.1).map(|r| r.2).sum();
+    let mut best = (misplaced, 0.0);
+    for k in 0..rings.len() {
+        misplaced += if rings[k].1 { -rings[k].2 } else { rings[k].2 };
+        let c = match rings.get(k + 1) {
+            Some(next) => 0.5 * (rings[k].0 + next.0),
+            None => rings[k].0,
+        };
+        if misplaced < best.0 {
+            best = (misplaced, c);
+        }
+    }
+    best.1
+}
+
 /// Follows the push increment by increment.
 struct Push<'a> {
     scene: &'a MindlinScene,
@@ -207,7 +244,7 @@ struct Push<'a> {
 
 impl Push<'_> {
     /// The state at the end of an increment of the push.
-    fn measure(&self, model: &Model) -> Option<MindlinPoint> {
+    fn measure(&self, model: &Model, factor: f64) -> Option<MindlinPoint> {
         let sphere: &PdBody = model.bodies[0].as_pd()?;
         let f = sphere.friction.as_ref()?;
         let s = self.scene;
@@ -220,45 +257,40 @@ impl Push<'_> {
             return None;
         }
         let ratio = q_half.abs() / limit;
-        let (mut touching, mut sticking) = (0.0, 0.0);
-        for i in 0..sphere.len() {
-            let area = sphere.case.segments.pressure_area[i];
-            match f.stick[i] {
-                1 => {
-                    touching += area;
-                    sticking += area;
-                }
-                0 => touching += area,
-                _ => {}
-            }
-        }
         let theory = (1.0 - ratio).max(0.0).cbrt();
         let a = s.contact_radius;
         let q0 = s.friction * s.peak_pressure();
-        let (mut err, mut samples) = (0.0, 0usize);
+        // Radii from the contact's centre, where the pressure centres it on the sphere as it
+        // is now (the push tilts the sector and moves its contact along x; y = 0 is a
+        // symmetry plane).
+        let (mut w, mut wx) = (0.0, 0.0);
+        for i in 0..sphere.len() {
+            if f.stick[i] >= 0 {
+                let p = sphere.pressure_force(i);
+                w += p;
+                wx += p * (sphere.case.particles.position[i].x + sphere.u[i].x);
+            }
+        }
+        let centre = if w > 0.0 { wx / w } else { 0.0 };
+        let (mut err, mut samples, mut profile) = (0.0, 0usize, Vec::new());
         for i in 0..sphere.len() {
             let area = sphere.case.segments.pressure_area[i];
             if f.stick[i] < 0 || !(area > 0.0) {
                 continue;
             }
-            let x = sphere.case.particles.position[i];
-            let r = (x.x * x.x + x.y * x.y).sqrt();
+            let x = sphere.case.particles.position[i] + sphere.u[i];
+            let r = ((x.x - centre).powi(2) + x.y * x.y).sqrt();
+            let q = (sphere.friction_force(i).x / area).abs();
+            profile.push((r / a, q / q0));
             if r > 0.8 * a {
                 continue;
             }
-            let q = (sphere.friction_force(i).x / area).abs();
             err += (q / q0 - mindlin_shear(r, a, theory * a)).abs();
             samples += 1;
         }
-        let stick_ratio = if touching > 0.0 {
-            (sticking / touching).sqrt()
-        } else {
-            0.0
-        };
-        let push = model.path.prescribed.first().map_or(0.0, |p| {
-            let i = p.particles.first().copied().unwrap_or(0) as usize;
-            sphere.u[i].x
-        });
+        let stick_ratio = stick_radius(sphere, f, centre) / a;
+        // The push of the increment measured (the solver has set the next one's already).
+        let push = self.scene.push * crate::scene::ramp_factor(Some([0.5, 1.0]), factor);
         Some(MindlinPoint {
             ratio,
             push,
@@ -266,6 +298,7 @@ impl Push<'_> {
             theory_stick_ratio: theory,
             shear_mre: err / samples.max(1) as f64,
             samples,
+            profile,
         })
     }
 }
@@ -280,14 +313,14 @@ impl Monitor for Push<'_> {
         let half = self.scene.steps as f64;
         let before = factor - 1.0 / (2.0 * half);
         if before > 0.5 + 1e-9 {
-            if let Some(p) = self.measure(model) {
+            if let Some(p) = self.measure(model, before) {
                 self.points.push(p);
             }
         }
         Ok(())
     }
     fn finish(&mut self, model: &Model, _: usize, _: f64) -> Result<()> {
-        if let Some(p) = self.measure(model) {
+        if let Some(p) = self.measure(model, 1.0) {
             self.points.push(p);
         }
         Ok(())
@@ -304,6 +337,7 @@ pub fn run_mindlin(scene: &MindlinScene, folder: &Path, quiet: bool) -> Result<M
     if let Some(e) = &summary.error {
         return Err(Error::numerical(e.clone()));
     }
+    write_shear_chart(&folder.join(SHEAR_CHART), &push.points)?;
     Ok(MindlinResult {
         spacing: scene.spacing,
         contact_radius: scene.contact_radius,
@@ -362,4 +396,73 @@ impl MindlinResult {
         }
         s
     }
+}
+
+/// The chart of the shear traction against Cattaneo-Mindlin's that [`run_mindlin`] writes.
+pub const SHEAR_CHART: &str = "friction_shear.svg";
+
+/// The shear traction of the particles against the radius, at the increments nearest
+/// Q/(μP) = 0.25, 0.5 and 0.75, with Mindlin's curves at their Q.
+fn write_shear_chart(path: &Path, points: &[MindlinPoint]) -> Result<()> {
+    use plotters::prelude::*;
+    let mut chosen: Vec<&MindlinPoint> = Vec::new();
+    for target in [0.25, 0.5, 0.75] {
+        if let Some(p) = points
+            .iter()
+            .min_by(|a, b| (a.ratio - target).abs().total_cmp(&(b.ratio - target).abs()))
+        {
+            if !chosen.iter().any(|c| std::ptr::eq(*c, p)) {
+                chosen.push(p);
+            }
+        }
+    }
+    let colours = [BLUE, RED, GREEN];
+    crate::output::chart::write_svg(path, (720, 480), |root, draw| {
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                "Shear traction against Cattaneo-Mindlin",
+                ("sans-serif", 18),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..1.3f64, 0.0..1.2f64)
+            .map_err(|e| draw(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc("r / a")
+            .y_desc("|q_x| / (μ p0)")
+            .draw()
+            .map_err(|e| draw(&e))?;
+        for (p, colour) in chosen.iter().zip(colours) {
+            let c = p.theory_stick_ratio;
+            let curve: Vec<(f64, f64)> = (0..=200)
+                .map(|k| {
+                    let r = k as f64 / 200.0;
+                    (r, mindlin_shear(r, 1.0, c))
+                })
+                .collect();
+            chart
+                .draw_series(LineSeries::new(curve, colour.stroke_width(2)))
+                .map_err(|e| draw(&e))?
+                .label(format!("Q/(μP) = {:.2}: Mindlin", p.ratio))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                });
+            chart
+                .draw_series(
+                    p.profile
+                        .iter()
+                        .map(|&(r, q)| Circle::new((r, q), 3, colour.filled())),
+                )
+                .map_err(|e| draw(&e))?
+                .label("particles")
+                .legend(move |(x, y)| Circle::new((x + 9, y), 3, colour.filled()));
+        }
+        crate::output::chart::legend(&mut chart)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(|e| draw(&e))?;
+        Ok(())
+    })
 }

@@ -1,0 +1,147 @@
+//! Coulomb friction (METHOD.md §10, docs/VALIDATION.md "Friction"): a block on a tilted plane
+//! that holds below tan θ = μ and slides at g (sin θ − μ cos θ) above it (explicit), a sphere
+//! pressed into a block of the same material and pushed sideways against Cattaneo-Mindlin
+//! (ADR), the same bits on any thread count, and frictionless scenes untouched.
+
+use pdcontact::run::{run_scene, RunOptions, RunSummary};
+use pdcontact::scene::Scene;
+use pdcontact::studies::friction::{
+    run_mindlin, run_sliding, MindlinResult, MindlinScene, SlidingBlock,
+};
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("pdcontact-friction-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// Runs the scene `text` in a temporary folder named for `name`.
+fn run_text(text: &str, name: &str) -> RunSummary {
+    let dir = temp_dir(name);
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).expect("scene");
+    let scene = Scene::load(&path).expect("scene loads");
+    let (_, summary) = run_scene(
+        &scene,
+        &RunOptions {
+            output: Some(dir.clone()),
+            quiet: true,
+            stop: None,
+            comm: None,
+        },
+    )
+    .expect("runs");
+    let _ = std::fs::remove_dir_all(&dir);
+    summary
+}
+
+fn block(slope: f64) -> SlidingBlock {
+    SlidingBlock {
+        slope,
+        friction: 0.3,
+        spacing: 0.01,
+        end_time: 0.1,
+    }
+}
+
+/// μ = 0.3: at tan θ = 0.5 and 1 the block slides at g (sin θ − μ cos θ) within 0.1 %
+/// (measured: −0.00 %); at tan θ = 0.2 it holds: its acceleration under 0.1 % of the
+/// frictionless one and its travel the tangential penalty's give, under 1e-4 of the
+/// frictionless travel (measured: 9e-7 m against 9.6e-3 m).
+#[test]
+fn a_block_slides_above_the_friction_angle_and_holds_below() {
+    for slope in [0.5, 1.0, 0.2] {
+        let r = run_sliding(&block(slope), &temp_dir(&format!("slope{slope}")), true)
+            .expect("runs");
+        assert!(r.error().abs() < 1e-3, "{}", r.to_text());
+        assert!(r.energy_drift < 0.02, "{}", r.to_text());
+        if slope < 0.3 {
+            assert!(r.distance.abs() < 1e-4 * r.frictionless_distance, "{}", r.to_text());
+            assert!(r.sticking > 0 && r.slipping == 0, "{}", r.to_text());
+        } else {
+            assert!(r.slipping > 0 && r.sticking == 0, "{}", r.to_text());
+        }
+    }
+}
+
+fn mindlin(spacing: f64, steps: usize) -> MindlinScene {
+    let mut s = MindlinScene {
+        contact_radius: 0.15,
+        spacing,
+        friction: 0.3,
+        push: 0.0,
+        steps,
+        rigid_flat: false,
+    };
+    s.push = 8.0 * s.full_slip_travel();
+    s
+}
+
+/// The sphere pressed into a block of the same material (β = 0) at a/Δ = 5, then pushed:
+/// at each increment of the push with 0.1 ≤ Q/(μP) ≤ 0.9 the stick radius within 0.06 a of
+/// `a (1 − Q/(μP))^{1/3}` and the shear traction within 7 % of μ p0 (mean within 0.8 a).
+/// Measured: stick radius +0.003 to +0.058 a, shear 3.5-6.5 %; docs/VALIDATION.md has the
+/// finer rows that meet 5 %.
+#[test]
+fn a_pushed_sphere_sticks_within_mindlins_radius() {
+    let r: MindlinResult = run_mindlin(&mindlin(0.03, 8), &temp_dir("mindlin"), true).expect("runs");
+    let pushed: Vec<_> = r
+        .points
+        .iter()
+        .filter(|p| (0.1..=0.9).contains(&p.ratio))
+        .collect();
+    assert!(pushed.len() >= 5, "{}", r.to_text());
+    // Q rises with the push, and the stick zone shrinks.
+    assert!(r.points.windows(2).all(|w| w[1].ratio > w[0].ratio), "{}", r.to_text());
+    for p in pushed {
+        assert!(
+            (p.stick_ratio - p.theory_stick_ratio).abs() < 0.06,
+            "{}",
+            r.to_text()
+        );
+        assert!(p.shear_mre < 0.07, "{}", r.to_text());
+    }
+}
+
+/// The same bits on one and on two threads: the stick points are each slave's own.
+#[test]
+fn friction_alike_on_any_thread_count() {
+    let scene = mindlin(0.05, 3).scene();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        pool.install(|| run_text(&scene, &format!("threads{threads}")))
+    };
+    let (a, b) = (run(1), run(2));
+    let json = |s: &RunSummary| serde_json::to_value(s).expect("json");
+    let (a, b) = (json(&a), json(&b));
+    for key in ["friction", "total_contact_force", "contact_radius", "iterations"] {
+        assert_eq!(a[key], b[key], "{key}");
+    }
+    assert!(a["friction"][0]["slipping"].as_u64() > Some(0), "{a}");
+}
+
+/// `friction = 0.0` and a ramp over the whole path are the scene without them, bit for bit.
+#[test]
+fn frictionless_and_unramped_scenes_are_untouched() {
+    let base = mindlin(0.05, 2).scene();
+    let plain = base
+        .replace("friction = 0.3\n", "")
+        .replace("ramp = [0.0, 0.5]\n", "")
+        .replace("ramp = [0.5, 1.0]\n", "");
+    let keyed = plain
+        .replace("radius = 100.0\n", "radius = 100.0\nfriction = 0.0\n")
+        .replace("force = [0.0, 0.0,", "ramp = [0.0, 1.0]\nforce = [0.0, 0.0,");
+    assert_ne!(plain, keyed);
+    let json = |s: RunSummary| {
+        let mut v = serde_json::to_value(s).expect("json");
+        for k in ["wall_seconds", "solve_seconds", "outputs"] {
+            v[k] = serde_json::Value::Null;
+        }
+        v
+    };
+    assert_eq!(json(run_text(&plain, "plain")), json(run_text(&keyed, "keyed")));
+}
