@@ -52,12 +52,16 @@ fn block(slope: f64) -> SlidingBlock {
 #[test]
 fn a_block_slides_above_the_friction_angle_and_holds_below() {
     for slope in [0.5, 1.0, 0.2] {
-        let r = run_sliding(&block(slope), &temp_dir(&format!("slope{slope}")), true)
-            .expect("runs");
+        let r =
+            run_sliding(&block(slope), &temp_dir(&format!("slope{slope}")), true).expect("runs");
         assert!(r.error().abs() < 1e-3, "{}", r.to_text());
         assert!(r.energy_drift < 0.02, "{}", r.to_text());
         if slope < 0.3 {
-            assert!(r.distance.abs() < 1e-4 * r.frictionless_distance, "{}", r.to_text());
+            assert!(
+                r.distance.abs() < 1e-4 * r.frictionless_distance,
+                "{}",
+                r.to_text()
+            );
             assert!(r.sticking > 0 && r.slipping == 0, "{}", r.to_text());
         } else {
             assert!(r.slipping > 0 && r.sticking == 0, "{}", r.to_text());
@@ -85,7 +89,8 @@ fn mindlin(spacing: f64, steps: usize) -> MindlinScene {
 /// finer rows that meet 5 %.
 #[test]
 fn a_pushed_sphere_sticks_within_mindlins_radius() {
-    let r: MindlinResult = run_mindlin(&mindlin(0.03, 8), &temp_dir("mindlin"), true).expect("runs");
+    let r: MindlinResult =
+        run_mindlin(&mindlin(0.03, 8), &temp_dir("mindlin"), true).expect("runs");
     let pushed: Vec<_> = r
         .points
         .iter()
@@ -93,7 +98,11 @@ fn a_pushed_sphere_sticks_within_mindlins_radius() {
         .collect();
     assert!(pushed.len() >= 5, "{}", r.to_text());
     // Q rises with the push, and the stick zone shrinks.
-    assert!(r.points.windows(2).all(|w| w[1].ratio > w[0].ratio), "{}", r.to_text());
+    assert!(
+        r.points.windows(2).all(|w| w[1].ratio > w[0].ratio),
+        "{}",
+        r.to_text()
+    );
     for p in pushed {
         assert!(
             (p.stick_ratio - p.theory_stick_ratio).abs() < 0.06,
@@ -118,7 +127,12 @@ fn friction_alike_on_any_thread_count() {
     let (a, b) = (run(1), run(2));
     let json = |s: &RunSummary| serde_json::to_value(s).expect("json");
     let (a, b) = (json(&a), json(&b));
-    for key in ["friction", "total_contact_force", "contact_radius", "iterations"] {
+    for key in [
+        "friction",
+        "total_contact_force",
+        "contact_radius",
+        "iterations",
+    ] {
         assert_eq!(a[key], b[key], "{key}");
     }
     assert!(a["friction"][0]["slipping"].as_u64() > Some(0), "{a}");
@@ -134,7 +148,10 @@ fn frictionless_and_unramped_scenes_are_untouched() {
         .replace("ramp = [0.5, 1.0]\n", "");
     let keyed = plain
         .replace("radius = 100.0\n", "radius = 100.0\nfriction = 0.0\n")
-        .replace("force = [0.0, 0.0,", "ramp = [0.0, 1.0]\nforce = [0.0, 0.0,");
+        .replace(
+            "force = [0.0, 0.0,",
+            "ramp = [0.0, 1.0]\nforce = [0.0, 0.0,",
+        );
     assert_ne!(plain, keyed);
     let json = |s: RunSummary| {
         let mut v = serde_json::to_value(s).expect("json");
@@ -143,5 +160,8 @@ fn frictionless_and_unramped_scenes_are_untouched() {
         }
         v
     };
-    assert_eq!(json(run_text(&plain, "plain")), json(run_text(&keyed, "keyed")));
+    assert_eq!(
+        json(run_text(&plain, "plain")),
+        json(run_text(&keyed, "keyed"))
+    );
 }

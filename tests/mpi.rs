@@ -363,3 +363,28 @@ fn fracture_on_three_ranks() {
     let (one, many) = (dir.join("one"), dir.join("many"));
     common::check_vtk(&["same".as_ref(), one.as_os_str(), many.as_os_str()]);
 }
+
+/// Friction (a sphere pressed into a block and pushed sideways, two passes): on three ranks
+/// the stick points, the tangential forces and the stick states come out as in one process,
+/// bit for bit, frames included; each slave's stick point is its owner's.
+#[test]
+fn friction_on_three_ranks() {
+    let dir = temp_dir("friction");
+    let mut scene = pdcontact::studies::friction::MindlinScene {
+        contact_radius: 0.15,
+        spacing: 0.05,
+        friction: 0.3,
+        push: 0.0,
+        steps: 2,
+        rigid_flat: false,
+    };
+    scene.push = 8.0 * scene.full_slip_travel();
+    let path = dir.join("mindlin.toml");
+    std::fs::write(&path, scene.scene()).expect("written");
+    let (a, b) = both(&path, 3);
+    assert_identical(&a, &b);
+    assert_eq!(a["friction"], b["friction"]);
+    assert!(a["friction"][0]["slipping"].as_u64() > Some(0), "{a}");
+    let (one, many) = (dir.join("one"), dir.join("many"));
+    common::check_vtk(&["same".as_ref(), one.as_os_str(), many.as_os_str()]);
+}

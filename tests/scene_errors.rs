@@ -680,7 +680,8 @@ fn friction_and_load_path_errors() {
         "[[load]]",
         &["ramp", "0.6", "0.4"],
     );
-    let text = ramped("[0.0, 0.5]").replace("kind = \"adr\"", "kind = \"explicit\"\nend_time = 1e-4");
+    let text =
+        ramped("[0.0, 0.5]").replace("kind = \"adr\"", "kind = \"explicit\"\nend_time = 1e-4");
     assert_error("explicit-ramp", &text, "[[load]]", &["explicit", "adr"]);
     let text = format!(
         "{GOOD}\n[[constraint]]\nbody = \"block\"\nset = \"top\"\nfix = [\"x\"]\ndisplacement = [0.0, 0.001, 0.0]\n"

@@ -204,7 +204,7 @@ pub struct ContactPass {
     sticks: Vec<Option<Anchor>>,
     /// Per slave, the stick point the last evaluation found (what a commit keeps), and the
     /// work its slip dissipated.
-    trial: Vec<Option<(Anchor, f64)>>,
+    trial: Vec<Trial>,
     /// Per slave, the work friction has dissipated over the committed increments or steps,
     /// J (the explicit solver's energy balance).
     pub friction_work: Vec<f64>,
@@ -213,6 +213,13 @@ pub struct ContactPass {
 /// A slave behind a segment by more than the window: the slave, the segment, the gap
 /// (negative).
 pub type Miss = (u32, u32, f64);
+
+/// A contact's stick point as the evaluation found it, and the work its slip dissipated
+/// (`None` without friction).
+type Trial = Option<(Anchor, f64)>;
+
+/// What the narrow phase finds for one slave: its contact and stick point, or a miss.
+type Found = (Option<(ContactPoint, Trial)>, Option<Miss>);
 
 /// No segment held.
 const NO_SEGMENT: u32 = u32::MAX;
@@ -462,56 +469,55 @@ impl ContactPass {
             let trial = anchor.map(|a| (a, point.slip_work));
             (Some((point, trial)), None)
         };
-        let results: Vec<(Option<(ContactPoint, Option<(Anchor, f64)>)>, Option<Miss>)> =
-            (0..self.slaves.len())
-                .into_par_iter()
-                .map_init(Vec::new, |projections, k| {
-                    let s = self.slaves[k];
-                    let p = sb.position(s as usize);
-                    let (a, b) = (
-                        self.verlet.offsets[k] as usize,
-                        self.verlet.offsets[k + 1] as usize,
-                    );
-                    // A slave keeps the segment it touched while it stays inside it and within the
-                    // window: at a convex master's corner, where the slave's own normal turns with
-                    // the distortion around it, the normals cannot tell which face it is pressed on.
-                    let held = self.held[k];
-                    let kept = (held != NO_SEGMENT)
-                        .then(|| project_on(s, p, held))
-                        .flatten()
-                        .filter(|(pr, outside)| *outside == 0.0 && within_window(pr, window))
-                        .map(|(pr, _)| pr);
-                    if let Some(pr) = kept {
-                        return contact(k, s, held, pr);
-                    }
-                    // Each candidate is projected once: the inside projections choose the segment,
-                    // and all of them serve the rule for concave edges when none does.
-                    projections.clear();
-                    projections.extend(self.verlet.candidates[a..b].iter().filter_map(|&seg| {
-                        project_on(s, p, seg).map(|(pr, outside)| (seg, pr, outside))
-                    }));
-                    let normal = std::cell::LazyCell::new(|| slave_normal(sb, s as usize));
-                    let inside = projections
-                        .iter()
-                        .filter(|c| c.2 == 0.0)
-                        .map(|&(seg, pr, _)| (seg, pr));
-                    match select_segment(inside, || *normal, window) {
-                        Touch::Contact(seg, pr) => contact(k, s, seg, pr),
-                        Touch::Missed(seg, gap) => (None, Some((s, seg, gap))),
-                        Touch::Clear => match select_across_edge(
-                            p,
-                            projections.iter().copied(),
-                            |seg| segs[seg as usize].nodes,
-                            |seg| view.corners(seg as usize),
-                            || *normal,
-                            window,
-                        ) {
-                            Some((seg, pr)) => contact(k, s, seg, pr),
-                            None => (None, None),
-                        },
-                    }
-                })
-                .collect();
+        let results: Vec<Found> = (0..self.slaves.len())
+            .into_par_iter()
+            .map_init(Vec::new, |projections, k| {
+                let s = self.slaves[k];
+                let p = sb.position(s as usize);
+                let (a, b) = (
+                    self.verlet.offsets[k] as usize,
+                    self.verlet.offsets[k + 1] as usize,
+                );
+                // A slave keeps the segment it touched while it stays inside it and within the
+                // window: at a convex master's corner, where the slave's own normal turns with
+                // the distortion around it, the normals cannot tell which face it is pressed on.
+                let held = self.held[k];
+                let kept = (held != NO_SEGMENT)
+                    .then(|| project_on(s, p, held))
+                    .flatten()
+                    .filter(|(pr, outside)| *outside == 0.0 && within_window(pr, window))
+                    .map(|(pr, _)| pr);
+                if let Some(pr) = kept {
+                    return contact(k, s, held, pr);
+                }
+                // Each candidate is projected once: the inside projections choose the segment,
+                // and all of them serve the rule for concave edges when none does.
+                projections.clear();
+                projections.extend(self.verlet.candidates[a..b].iter().filter_map(|&seg| {
+                    project_on(s, p, seg).map(|(pr, outside)| (seg, pr, outside))
+                }));
+                let normal = std::cell::LazyCell::new(|| slave_normal(sb, s as usize));
+                let inside = projections
+                    .iter()
+                    .filter(|c| c.2 == 0.0)
+                    .map(|&(seg, pr, _)| (seg, pr));
+                match select_segment(inside, || *normal, window) {
+                    Touch::Contact(seg, pr) => contact(k, s, seg, pr),
+                    Touch::Missed(seg, gap) => (None, Some((s, seg, gap))),
+                    Touch::Clear => match select_across_edge(
+                        p,
+                        projections.iter().copied(),
+                        |seg| segs[seg as usize].nodes,
+                        |seg| view.corners(seg as usize),
+                        || *normal,
+                        window,
+                    ) {
+                        Some((seg, pr)) => contact(k, s, seg, pr),
+                        None => (None, None),
+                    },
+                }
+            })
+            .collect();
         self.missed = results.iter().filter(|r| r.1.is_some()).count();
         // The deepest, the first of equals: the same over any number of threads.
         self.deepest_miss = results.iter().filter_map(|r| r.1).fold(

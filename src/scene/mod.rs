@@ -17,6 +17,7 @@ use serde::{Deserialize, Serialize};
 mod check;
 mod check_fracture;
 mod check_path;
+pub use check_path::MAX_FRICTION;
 
 pub(crate) use check::{box_corner, memory_limit};
 

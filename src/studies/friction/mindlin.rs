@@ -164,6 +164,13 @@ fn material() -> String {
 pub struct MindlinPoint {
     /// The tangential force over its limit, `Q / (μ P)`, both from the contact.
     pub ratio: f64,
+    /// Q on the model (half the sphere's), N.
+    pub tangential_force: f64,
+    /// Mindlin's compliance part of the push, measured (the push less what the same scene
+    /// fully stuck takes for the bodies' own shear at this Q) and by the theory,
+    /// `(3μP/(16a)) Σ(2 − ν)/G [1 − (1 − Q/(μP))^{2/3}]`, m; 0 until measured.
+    pub slip_travel: f64,
+    pub theory_slip_travel: f64,
     /// The inner face's travel, m.
     pub push: f64,
     /// The stick radius over Hertz's contact radius, measured ([`stick_radius`]) and by the
@@ -293,6 +300,10 @@ impl Push<'_> {
         let push = self.scene.push * crate::scene::ramp_factor(Some([0.5, 1.0]), factor);
         Some(MindlinPoint {
             ratio,
+            tangential_force: q_half.abs(),
+            slip_travel: 0.0,
+            theory_slip_travel: self.scene.full_slip_travel()
+                * (1.0 - (1.0 - ratio).max(0.0).powf(2.0 / 3.0)),
             push,
             stick_ratio,
             theory_stick_ratio: theory,
@@ -338,6 +349,31 @@ pub fn run_mindlin(scene: &MindlinScene, folder: &Path, quiet: bool) -> Result<M
         return Err(Error::numerical(e.clone()));
     }
     write_shear_chart(&folder.join(SHEAR_CHART), &push.points)?;
+    // The same scene stuck (μ = 10: no particle slips): its push over Q is the bodies' own
+    // shear compliance plus the contact's without slip, `Σ(2 − ν)/(8Ga)` (Mindlin's slope at
+    // Q = 0); what the push takes beyond the bodies' own shear is the contact's travel.
+    let stuck = MindlinScene {
+        friction: crate::scene::MAX_FRICTION,
+        ..scene.clone()
+    };
+    let mut reference = Push {
+        scene: &stuck,
+        points: Vec::new(),
+    };
+    let (_, stuck_summary, stuck_wall) =
+        run_in(&stuck.scene(), &folder.join("stuck"), quiet, &mut reference)?;
+    if let Some(e) = &stuck_summary.error {
+        return Err(Error::numerical(e.clone()));
+    }
+    let no_slip_slope =
+        scene.full_slip_travel() * 2.0 / 3.0 / (scene.friction * 0.5 * scene.load());
+    if let Some(last) = reference.points.last().filter(|p| p.tangential_force > 0.0) {
+        let own = last.push / last.tangential_force - no_slip_slope;
+        for p in &mut push.points {
+            p.slip_travel = p.push - own * p.tangential_force;
+        }
+    }
+    let wall = wall + stuck_wall;
     Ok(MindlinResult {
         spacing: scene.spacing,
         contact_radius: scene.contact_radius,
@@ -379,19 +415,19 @@ impl MindlinResult {
             self.iterations,
             self.wall_seconds
         );
-        s.push_str(
-            "  Q/(μP)   push (m)    c/a     theory   error (of a)   shear MRE (of μp0, r ≤ 0.8a)\n",
-        );
+        s.push_str("  Q/(μP)   c/a     theory   error (of a)   shear MRE (of μp0, r ≤ 0.8a)   contact's travel (m), theory, error\n");
         for p in &self.points {
             s.push_str(&format!(
-                "  {:6.3}   {:9.3e}   {:6.3}   {:6.3}   {:+7.3}        {:6.2} % ({} particles)\n",
+                "  {:6.3}   {:6.3}   {:6.3}   {:+7.3}        {:6.2} % ({} particles)          {:9.3e}  {:9.3e}  {:+6.1} %\n",
                 p.ratio,
-                p.push,
                 p.stick_ratio,
                 p.theory_stick_ratio,
                 p.stick_ratio - p.theory_stick_ratio,
                 100.0 * p.shear_mre,
-                p.samples
+                p.samples,
+                p.slip_travel,
+                p.theory_slip_travel,
+                100.0 * (p.slip_travel / p.theory_slip_travel - 1.0)
             ));
         }
         s
@@ -407,10 +443,11 @@ fn write_shear_chart(path: &Path, points: &[MindlinPoint]) -> Result<()> {
     use plotters::prelude::*;
     let mut chosen: Vec<&MindlinPoint> = Vec::new();
     for target in [0.25, 0.5, 0.75] {
-        if let Some(p) = points
-            .iter()
-            .min_by(|a, b| (a.ratio - target).abs().total_cmp(&(b.ratio - target).abs()))
-        {
+        if let Some(p) = points.iter().min_by(|a, b| {
+            (a.ratio - target)
+                .abs()
+                .total_cmp(&(b.ratio - target).abs())
+        }) {
             if !chosen.iter().any(|c| std::ptr::eq(*c, p)) {
                 chosen.push(p);
             }
