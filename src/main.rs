@@ -206,8 +206,9 @@ enum Command {
         /// The block's slopes tan θ, one run each.
         #[arg(long, value_delimiter = ',', default_value = "0.2,0.5")]
         slope: Vec<f64>,
-        /// Mindlin: the push, as a share of the theory's travel at full slip.
-        #[arg(long, default_value_t = 1.0)]
+        /// Mindlin: the push, as a share of the theory's travel at full slip (the sector and
+        /// the block shear as well: 1.5 takes Q to about 0.9 μP).
+        #[arg(long, default_value_t = 1.5)]
         push: f64,
         /// Mindlin: increments of the pressing and of the push.
         #[arg(long, default_value_t = 8)]

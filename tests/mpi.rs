@@ -378,7 +378,7 @@ fn friction_on_three_ranks() {
         steps: 2,
         rigid_flat: false,
     };
-    scene.push = 8.0 * scene.full_slip_travel();
+    scene.push = 1.5 * scene.full_slip_travel();
     let path = dir.join("mindlin.toml");
     std::fs::write(&path, scene.scene()).expect("written");
     let (a, b) = both(&path, 3);

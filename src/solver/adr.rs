@@ -137,10 +137,14 @@ pub fn adr(
             Motion::Fixed | Motion::Free => false,
         },
         Body::Deformable(_) => false,
-    });
+    }) || model
+        .path
+        .prescribed
+        .iter()
+        .any(|p| p.displacement.norm() > 0.0);
     if !driven && !(applied_norm(model) > 0.0) {
         return Err(Error::input(
-            "nothing loads the model: an ADR (static) run needs a [[load]] with a non-zero force on a body part that is free to move, or a rigid body with motion = \"velocity\" or \"displacement\"".to_string(),
+            "nothing loads the model: an ADR (static) run needs a [[load]] with a non-zero force on a body part that is free to move, a [[constraint]] with a non-zero displacement, or a rigid body with motion = \"velocity\" or \"displacement\"".to_string(),
         ));
     }
     let density = bond_density(model);
@@ -228,15 +232,30 @@ fn adr_increment(
         // Displacement-driven scenes: measure against the contact forces (in a decomposed
         // run, every particle's, gathered first).
         model.gather();
-        model
+        let contact: f64 = model
             .bodies
             .iter()
             .filter_map(Body::as_pd)
             .flat_map(|pd| pd.contact_force.iter())
             .map(|f| f.norm_squared())
-            .sum::<f64>()
-            .sqrt()
-            .max(f64::MIN_POSITIVE)
+            .sum();
+        // A prescribed displacement drives through the bonds of the particles it moves:
+        // their held components' forces are its reactions.
+        let mut held = 0.0;
+        for p in &model.path.prescribed {
+            let Some(pd) = model.bodies[p.body].as_pd() else {
+                continue;
+            };
+            for &i in &p.particles {
+                let f = pd.force[i as usize];
+                for a in 0..3 {
+                    if p.mask & (1 << a) != 0 {
+                        held += f[a] * f[a];
+                    }
+                }
+            }
+        }
+        (contact + held).sqrt().max(f64::MIN_POSITIVE)
     };
     let nb = model.bodies.len();
     let mut prev_f: Vec<Vec<Vec3>> = vec![Vec::new(); nb];

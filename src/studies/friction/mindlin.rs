@@ -5,10 +5,13 @@
 //!
 //! The sphere is the shell sector of `validate`'s Hertz sphere (R = 1 m, E = 1 GPa, ν = 1/4),
 //! the block 6a × 3a × 3a fixed at its bottom, both halved by the symmetry plane y = 0 (the
-//! push is along x). P is a load on the sector's inner face over the first half of the load
-//! path; over the second half that face is moved along x by a prescribed displacement, so
-//! that the tangential force Q comes out as the contact's reaction, increment by increment,
-//! and each increment is a point of the theory's curve.
+//! push is along x). The sector's inner face is held as a rigid holder would hold it: moved
+//! down by a prescribed displacement over the first half of the load path (P comes out as
+//! the contact's force, and the theory is taken at that P), then along x over the second
+//! half, never tilted, so that the tangential force Q comes out as the contact's reaction,
+//! increment by increment, and each increment is a point of the theory's curve. (With P as
+//! a load on the face and only x held, the sector tilted under Q by about 0.05 rad and the
+//! slip zone gathered on its trailing side.)
 
 use std::path::Path;
 
@@ -56,9 +59,18 @@ impl MindlinScene {
         4.0 * self.e_star() * self.contact_radius.powi(3) / (3.0 * RADIUS)
     }
 
-    /// Hertz's peak pressure, Pa.
-    pub fn peak_pressure(&self) -> f64 {
-        2.0 * self.e_star() * self.contact_radius / (std::f64::consts::PI * RADIUS)
+    /// How far the inner face is pressed down: `0.9 a²/R` of Hertz's approach `a²/R`, which
+    /// gave 0.9 of it under P on the sector and the block (the sector is not a whole sphere:
+    /// measured with P as a load, 0.0203 m at a = 0.15 m). P is then measured from the
+    /// contact, and the theory's figures taken at that P.
+    pub fn approach(&self) -> f64 {
+        0.9 * self.contact_radius.powi(2) / RADIUS
+    }
+
+    /// Hertz's contact radius and peak pressure under `load`, N.
+    pub fn hertz(&self, load: f64) -> (f64, f64) {
+        let a = (3.0 * load * RADIUS / (4.0 * self.e_star())).cbrt();
+        (a, 3.0 * load / (2.0 * std::f64::consts::PI * a * a))
     }
 
     /// The scene.
@@ -118,10 +130,12 @@ kinematics = "small"
 body = "sphere"
 axis = "y"
 
-[[load]]
+# The inner face is a rigid holder: pressed down, then pushed along x, never tilted.
+[[constraint]]
 body = "sphere"
 set = "top"
-force = [0.0, 0.0, -{half:e}]   # half of P: the model is halved by y = 0
+fix = ["z"]
+displacement = [0.0, 0.0, -{approach:e}]
 ramp = [0.0, 0.5]
 
 [[constraint]]
@@ -150,7 +164,7 @@ friction = {mu}
             steps = 2 * self.steps,
             dx = self.spacing,
             mat = material(),
-            half = 0.5 * self.load(),
+            approach = self.approach(),
         )
     }
 }
@@ -166,6 +180,9 @@ pub struct MindlinPoint {
     pub ratio: f64,
     /// Q on the model (half the sphere's), N.
     pub tangential_force: f64,
+    /// P on the whole sphere, from the contact, N, and Hertz's contact radius under it, m.
+    pub load: f64,
+    pub hertz_radius: f64,
     /// Mindlin's compliance part of the push, measured (the push less what the same scene
     /// fully stuck takes for the bodies' own shear at this Q) and by the theory,
     /// `(3μP/(16a)) Σ(2 − ν)/G [1 − (1 − Q/(μP))^{2/3}]`, m; 0 until measured.
@@ -265,8 +282,9 @@ impl Push<'_> {
         }
         let ratio = q_half.abs() / limit;
         let theory = (1.0 - ratio).max(0.0).cbrt();
-        let a = s.contact_radius;
-        let q0 = s.friction * s.peak_pressure();
+        // Hertz's contact under the P the holder's approach gave (the whole sphere's).
+        let (a, p0) = s.hertz(2.0 * p_half.abs());
+        let q0 = s.friction * p0;
         // Radii from the contact's centre, where the pressure centres it on the sphere as it
         // is now (the push tilts the sector and moves its contact along x; y = 0 is a
         // symmetry plane).
@@ -302,8 +320,10 @@ impl Push<'_> {
             ratio,
             tangential_force: q_half.abs(),
             slip_travel: 0.0,
-            theory_slip_travel: self.scene.full_slip_travel()
+            theory_slip_travel: s.full_slip_travel_at(2.0 * p_half.abs())
                 * (1.0 - (1.0 - ratio).max(0.0).powf(2.0 / 3.0)),
+            load: 2.0 * p_half.abs(),
+            hertz_radius: a,
             push,
             stick_ratio,
             theory_stick_ratio: theory,
@@ -365,9 +385,10 @@ pub fn run_mindlin(scene: &MindlinScene, folder: &Path, quiet: bool) -> Result<M
     if let Some(e) = &stuck_summary.error {
         return Err(Error::numerical(e.clone()));
     }
-    let no_slip_slope =
-        scene.full_slip_travel() * 2.0 / 3.0 / (scene.friction * 0.5 * scene.load());
     if let Some(last) = reference.points.last().filter(|p| p.tangential_force > 0.0) {
+        // Mindlin's slope at Q = 0, on the half model's Q: `Σ(2 − ν)/(8Ga)` times 2.
+        let no_slip_slope =
+            scene.full_slip_travel_at(last.load) * 2.0 / 3.0 / (scene.friction * 0.5 * last.load);
         let own = last.push / last.tangential_force - no_slip_slope;
         for p in &mut push.points {
             p.slip_travel = p.push - own * p.tangential_force;
@@ -390,10 +411,15 @@ impl MindlinScene {
     /// Mindlin's tangential travel at full slip, `(3μP/(16a)) Σ (2 − ν)/G`: the relative
     /// displacement of distant points when Q reaches μP.
     pub fn full_slip_travel(&self) -> f64 {
+        self.full_slip_travel_at(self.load())
+    }
+
+    /// [`Self::full_slip_travel`] under the normal load `load`, N.
+    pub fn full_slip_travel_at(&self, load: f64) -> f64 {
         let g = YOUNGS / (2.0 * (1.0 + POISSON));
         let bodies = if self.rigid_flat { 1.0 } else { 2.0 };
-        3.0 * self.friction * self.load() / (16.0 * self.contact_radius) * bodies * (2.0 - POISSON)
-            / g
+        let (a, _) = self.hertz(load);
+        3.0 * self.friction * load / (16.0 * a) * bodies * (2.0 - POISSON) / g
     }
 }
 
