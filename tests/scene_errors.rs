@@ -125,8 +125,8 @@ fn unknown_keys() {
         "youngs_modulis",
         &["youngs_modulis"],
     );
-    let text = GOOD.replace("radius = 0.5", "radius = 0.5\nfriction = 0.3");
-    assert_error("unknown-contact", &text, "friction", &["friction"]);
+    let text = GOOD.replace("radius = 0.5", "radius = 0.5\nadhesion = 0.3");
+    assert_error("unknown-contact", &text, "adhesion", &["adhesion"]);
     let text = GOOD.replace("[output]", "[outputs]");
     assert_error("unknown-table", &text, "[outputs]", &["outputs"]);
     let text = GOOD.replace("spacing = 0.25 }", "spacing = 0.25, radious = 1.0 }");

@@ -109,8 +109,9 @@ axis = "y"
             "two_pass = true\n"
         };
         format!(
-            r#"# Cattaneo-Mindlin: a sphere (R = {RADIUS} m) pressed by P = {p:e} N (a = {a} m) into {what}, then pushed
-# along x by {push:e} m; friction mu = {mu}: `pdcontact friction --case mindlin`.
+            r#"# Cattaneo-Mindlin: a sphere (R = {RADIUS} m) pressed into {what} (its inner face moved down
+# {approach:e} m: about P = {p:e} N, a = {a} m), then pushed along x by {push:e} m; friction
+# mu = {mu}: `pdcontact friction --case mindlin`.
 [solver]
 kind = "adr"
 tolerance = 1e-5
