@@ -8,6 +8,8 @@
 //! friction force depends on the state alone (an elastic predictor from the committed point,
 //! a slip corrector), as an implicit FE code's return mapping does.
 
+use super::{project_any, ContactPass, ContactPoint, MasterView};
+use crate::case::segments::MasterSegment;
 use crate::math::Vec3;
 
 /// A material point of a master's surface: a segment and the weights `N_a(r, t)` of its
@@ -69,6 +71,114 @@ pub fn return_map(
         force: dir * -limit,
         slip: true,
         moved_to: Some(contact - dir * (limit / k_t)),
+    }
+}
+
+impl ContactPass {
+    /// The pass with Coulomb friction of coefficient `mu` (METHOD.md §10; 0 leaves it
+    /// frictionless).
+    pub fn with_friction(mut self, mu: f64) -> ContactPass {
+        self.friction = mu;
+        if mu > 0.0 {
+            self.reset_friction();
+        }
+        self
+    }
+
+    /// Keeps the stick points the last evaluation found as the history the next increment
+    /// (ADR) or step (explicit) starts from; a slave out of contact forgets its own.
+    pub fn commit_friction(&mut self) {
+        if self.friction > 0.0 {
+            for ((stick, work), trial) in self
+                .sticks
+                .iter_mut()
+                .zip(&mut self.friction_work)
+                .zip(&self.trial)
+            {
+                *stick = trial.map(|t| t.0);
+                *work += trial.map_or(0.0, |t| t.1);
+            }
+        }
+    }
+
+    /// No stick points and no work, for the slaves the pass holds now.
+    pub(super) fn reset_friction(&mut self) {
+        self.sticks = vec![None; self.slaves.len()];
+        self.trial = vec![None; self.slaves.len()];
+        self.friction_work = vec![0.0; self.slaves.len()];
+    }
+
+    /// Friction on a contact just found (`point`, of the pass's `k`-th slave, its normal force
+    /// set), with the tangential penalty `k_t`: the stick point it works from (the committed
+    /// one, or where the slave touches now if it has none), the return mapping's force added
+    /// to the slave's, its state and energies; returns the stick point this evaluation finds.
+    pub(super) fn add_friction(
+        &self,
+        view: MasterView,
+        k: usize,
+        point: &mut ContactPoint,
+        k_t: f64,
+    ) -> Anchor {
+        let (segment, pr) = (point.segment, point.projection);
+        let corners = view.corners(segment as usize);
+        let here = Anchor {
+            segment,
+            weights: pr.weights,
+        };
+        let stuck = self.sticks[k].unwrap_or(here);
+        let from = stuck.at(view.corners(stuck.segment as usize));
+        let t = return_map(
+            self.friction,
+            point.normal_force,
+            k_t,
+            pr.normal,
+            here.at(corners),
+            from,
+        );
+        point.force += t.force;
+        point.stick = Some(!t.slip);
+        point.tangential_energy = 0.5 * t.force.norm_squared() / k_t;
+        let Some(x) = t.moved_to else {
+            return stuck;
+        };
+        // A slipping slave's stick point is carried on the segment it touches now, where it
+        // lies within μ F_n / k_t of the contact point (on its boundary if past an edge).
+        let triangle = view.segments()[segment as usize].is_triangle();
+        let moved = project_any(x, corners, triangle).map_or(here, |(p, _)| Anchor {
+            segment,
+            weights: p.weights,
+        });
+        let d = moved.at(corners) - from;
+        point.slip_work = t.force.norm() * (d - pr.normal * pr.normal.dot(&d)).norm();
+        moved
+    }
+
+    /// What a contact's stiffness counts in ADR's density: its normal tangent, twice with
+    /// friction (the tangential penalty is as stiff, across the normal).
+    pub(super) fn stiffness_factor(&self) -> f64 {
+        if self.friction > 0.0 {
+            2.0
+        } else {
+            1.0
+        }
+    }
+
+    /// Friction's part of [`reactions`](Self::reactions): `(node, tangential force)`.
+    pub fn friction_reactions<'a>(
+        &'a self,
+        segments: &'a [MasterSegment],
+    ) -> impl Iterator<Item = (u32, Vec3)> + 'a {
+        self.contacts
+            .iter()
+            .filter(|c| c.stick.is_some())
+            .flat_map(move |c| {
+                let nodes = segments[c.segment as usize].nodes;
+                let t = c.force - c.projection.normal * c.normal_force;
+                (0..4).filter_map(move |k| {
+                    let w = c.projection.weights[k];
+                    (w != 0.0).then(|| (nodes[k], -(t * w)))
+                })
+            })
     }
 }
 

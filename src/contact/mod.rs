@@ -51,7 +51,7 @@ use crate::body::{Body, PdBody, RigidBody};
 use crate::case::segments::MasterSegment;
 use crate::math::Vec3;
 use broad::distinct;
-use friction::{return_map, Anchor};
+use friction::Anchor;
 use narrow::within_window;
 
 /// Segments around a master node whose normals turn from a segment's by more than this angle
@@ -315,39 +315,6 @@ impl ContactPass {
         }
     }
 
-    /// The pass with Coulomb friction of coefficient `mu` (METHOD.md §10; 0 leaves it
-    /// frictionless).
-    pub fn with_friction(mut self, mu: f64) -> ContactPass {
-        self.friction = mu;
-        if mu > 0.0 {
-            self.reset_friction();
-        }
-        self
-    }
-
-    /// Keeps the stick points the last evaluation found as the history the next increment
-    /// (ADR) or step (explicit) starts from; a slave out of contact forgets its own.
-    pub fn commit_friction(&mut self) {
-        if self.friction > 0.0 {
-            for ((stick, work), trial) in self
-                .sticks
-                .iter_mut()
-                .zip(&mut self.friction_work)
-                .zip(&self.trial)
-            {
-                *stick = trial.map(|t| t.0);
-                *work += trial.map_or(0.0, |t| t.1);
-            }
-        }
-    }
-
-    /// No stick points and no work, for the slaves the pass holds now.
-    fn reset_friction(&mut self) {
-        self.sticks = vec![None; self.slaves.len()];
-        self.trial = vec![None; self.slaves.len()];
-        self.friction_work = vec![0.0; self.slaves.len()];
-    }
-
     /// Finds the contacts of this pass at the current positions (broad phase as needed, then
     /// narrow phase). Forces are computed, not applied.
     pub fn detect(&mut self, bodies: &[Body]) {
@@ -428,44 +395,14 @@ impl ContactPass {
                 tangential_energy: 0.0,
                 slip_work: 0.0,
             };
-            let mut anchor = None;
-            if self.friction > 0.0 {
-                // The contact point on the master, and the stick point: the committed one,
-                // or (a slave that has just touched) the contact point itself.
-                let here = Anchor {
-                    segment,
-                    weights: pr.weights,
-                };
-                let at = here.at(view.corners(segment as usize));
-                let stuck = self.sticks[k].unwrap_or(here);
-                let from = stuck.at(view.corners(stuck.segment as usize));
-                // The tangential penalty: the normal law's stiffness at this penetration, as
-                // ADR's density takes it (a stick that yields as the contact does).
-                let k_t = scale * self.law.relaxation_stiffness(d);
-                let t = return_map(self.friction, f, k_t, pr.normal, at, from);
-                point.force += t.force;
-                point.stick = Some(!t.slip);
-                point.tangential_energy = 0.5 * t.force.norm_squared() / k_t;
-                anchor = Some(match t.moved_to {
-                    None => stuck,
-                    // Carried on the segment the slave touches now, where it lies within
-                    // μ F_n / k_t of the contact point (on its boundary if past an edge).
-                    Some(x) => project_any(
-                        x,
-                        view.corners(segment as usize),
-                        segs[segment as usize].is_triangle(),
-                    )
-                    .map_or(here, |(p, _)| Anchor {
-                        segment,
-                        weights: p.weights,
-                    }),
-                });
-                if let (Some(a), true) = (anchor, t.slip) {
-                    let moved = a.at(view.corners(a.segment as usize)) - from;
-                    point.slip_work =
-                        t.force.norm() * (moved - pr.normal * pr.normal.dot(&moved)).norm();
-                }
-            }
+            let anchor = (self.friction > 0.0).then(|| {
+                self.add_friction(
+                    view,
+                    k,
+                    &mut point,
+                    scale * self.law.relaxation_stiffness(d),
+                )
+            });
             let trial = anchor.map(|a| (a, point.slip_work));
             (Some((point, trial)), None)
         };
@@ -673,34 +610,6 @@ impl ContactPass {
                 };
             }
         }
-    }
-
-    /// What a contact's stiffness counts in ADR's density: its normal tangent, twice with
-    /// friction (the tangential penalty is as stiff, across the normal).
-    fn stiffness_factor(&self) -> f64 {
-        if self.friction > 0.0 {
-            2.0
-        } else {
-            1.0
-        }
-    }
-
-    /// Friction's part of [`reactions`](Self::reactions): `(node, tangential force)`.
-    pub fn friction_reactions<'a>(
-        &'a self,
-        segments: &'a [MasterSegment],
-    ) -> impl Iterator<Item = (u32, Vec3)> + 'a {
-        self.contacts
-            .iter()
-            .filter(|c| c.stick.is_some())
-            .flat_map(move |c| {
-                let nodes = segments[c.segment as usize].nodes;
-                let t = c.force - c.projection.normal * c.normal_force;
-                (0..4).filter_map(move |k| {
-                    let w = c.projection.weights[k];
-                    (w != 0.0).then(|| (nodes[k], -(t * w)))
-                })
-            })
     }
 
     /// The reactions on a deformable master of segments `segments`, in the order [`apply`](Self::apply) adds
