@@ -615,6 +615,11 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                     "--friction must be positive (got {friction}) and --steps at least 1 (got {steps})"
                 )));
             }
+            if let Some(bad) = slope.iter().find(|t| !(t.is_finite() && **t >= 0.0)) {
+                return Err(Error::input(format!(
+                    "--slope takes tan θ of each slope, 0 or positive, got {bad}"
+                )));
+            }
             if case == FrictionCase::Sliding {
                 let mut rows = Vec::new();
                 for (k, &slope) in slope.iter().enumerate() {

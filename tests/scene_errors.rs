@@ -666,6 +666,12 @@ fn friction_and_load_path_errors() {
         "[[contact]]",
         &["percent"],
     );
+    assert_error(
+        "one-step-friction",
+        &with("friction = 0.3"),
+        "[[contact]]",
+        &["load_steps", "frictionless"],
+    );
     let text = with("friction = 0.3").replace("kind = \"adr\"", "kind = \"static\"");
     assert_error("static-friction", &text, "[[contact]]", &["static", "adr"]);
     let ramped = |ramp: &str| {
@@ -683,6 +689,12 @@ fn friction_and_load_path_errors() {
     let text =
         ramped("[0.0, 0.5]").replace("kind = \"adr\"", "kind = \"explicit\"\nend_time = 1e-4");
     assert_error("explicit-ramp", &text, "[[load]]", &["explicit", "adr"]);
+    assert_error(
+        "one-step-ramp",
+        &ramped("[0.0, 0.5]"),
+        "ramp",
+        &["load_steps"],
+    );
     let text = format!(
         "{GOOD}\n[[constraint]]\nbody = \"block\"\nset = \"top\"\nfix = [\"x\"]\ndisplacement = [0.0, 0.001, 0.0]\n"
     );

@@ -28,9 +28,14 @@ impl Scene {
             )
         };
         let not_here = |what: &str| {
-            format!(
+            match self.solver.kind {
+            SolverKind::Explicit => format!(
                 "{what} shapes the load path of a quasi-static run that ADR walks in load_steps; kind = \"{solver}\" applies every load at once: use kind = \"adr\""
-            )
+            ),
+            _ => format!(
+                "{what} shapes the load path of a quasi-static run that ADR walks in load_steps; the static solver does not walk such a path yet: use kind = \"adr\""
+            ),
+        }
         };
         for (k, l) in self.loads.iter().enumerate() {
             let Some(r) = l.ramp else { continue };
@@ -107,6 +112,19 @@ impl Scene {
                 self.source, b.name
             )));
         }
+        // A path walked in one step has no history: every ramp jumps to its whole, and no
+        // slave has a stick point before the one increment ends.
+        let one_step = quasi_static && self.solver.load_steps.unwrap_or(1) < 2;
+        let ramped = self.loads.iter().any(|l| l.ramp.is_some())
+            || self.constraints.iter().any(|c| c.ramp.is_some())
+            || self.bodies.iter().any(|b| b.ramp.is_some());
+        if one_step && ramped {
+            let (l, col) = super::locate(&self.text, "ramp");
+            return Err(crate::error::Error::input(format!(
+                "{}:{l}:{col}: a ramp shapes the load path that ADR walks in load_steps increments, and load_steps is 1: the whole path is one step; give load_steps = 2 or more under [solver]",
+                self.source
+            )));
+        }
         for (k, c) in self.contacts.iter().enumerate() {
             let mu = c.friction;
             let msg = if !(mu.is_finite() && mu >= 0.0) {
@@ -118,6 +136,8 @@ impl Scene {
                 format!("friction μ = {} is above {MAX_FRICTION}: was it written in percent (μ = 0.3 for 30 %)?", num(mu))
             } else if mu > 0.0 && c.method == ContactMethod::ShortRange {
                 "friction needs the contact point on the master's surface that the point-to-surface method finds; the short-range method has none: use method = \"point-to-surface\"".to_string()
+            } else if mu > 0.0 && one_step {
+                "friction in ADR works from the stick points each load increment ends with, and with load_steps = 1 no slave has one before the run ends: the run would be frictionless; give load_steps = 2 or more under [solver] (the normal load in the first ones)".to_string()
             } else if mu > 0.0 && self.solver.kind == SolverKind::Static {
                 "friction is not in the static solver (its tangent has no stick-slip part yet): use kind = \"adr\", which walks the load path in load_steps, or \"explicit\"".to_string()
             } else {
