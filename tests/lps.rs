@@ -27,16 +27,21 @@ fn scene(model: &str, poisson: f64, solver: &str, skin: bool) -> String {
     common::bar_scene(model, poisson, solver, "small", skin, STRESS)
 }
 
-/// Runs scene `text` to convergence.
+/// Runs scene `text` to convergence, its frames in a folder of its own (the tests of this
+/// file run at once: one folder for all had one run's frames removed under another).
 fn run(text: &str) -> Model {
+    static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("pdcontact-lps-{}-{n}", std::process::id()));
     let scene = Scene::parse(text, "scene.toml", Path::new(".")).expect("scene");
     let options = RunOptions {
-        output: None,
+        output: Some(dir.clone()),
         quiet: true,
         stop: None,
         comm: None,
     };
     let (model, summary) = run_scene(&scene, &options).expect("the scene runs");
+    let _ = std::fs::remove_dir_all(&dir);
     assert!(summary.converged, "residual {}", summary.residual);
     model
 }
