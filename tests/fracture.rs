@@ -3,35 +3,17 @@
 //! by a projectile through the contact, the same bits on any thread count, and elastic
 //! scenes untouched by the failure machinery.
 
-use pdcontact::run::{run_scene, RunOptions};
-use pdcontact::scene::Scene;
 use pdcontact::studies::fracture::{run_beam, run_kalthoff, KalthoffPlate, NotchedBeam};
 
+mod common;
+
 fn temp_dir(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("pdcontact-fracture-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
+    common::temp_dir(&format!("fracture-{name}"))
 }
 
 /// Runs the scene `text` in a temporary folder named for `name`.
 fn run_text(text: &str, name: &str) -> (pdcontact::model::Model, pdcontact::run::RunSummary) {
-    let dir = temp_dir(name);
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).expect("scene");
-    let scene = Scene::load(&path).expect("scene loads");
-    let out = run_scene(
-        &scene,
-        &RunOptions {
-            output: Some(dir.clone()),
-            quiet: true,
-            stop: None,
-            comm: None,
-        },
-    )
-    .expect("runs");
-    let _ = std::fs::remove_dir_all(&dir);
-    out
+    common::run_text(text, &format!("fracture-{name}"))
 }
 
 /// The coarse beam (Δ = 2 mm, δ = 6 mm against a 20 mm notch) driven 0.6 mm in 12

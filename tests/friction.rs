@@ -3,37 +3,20 @@
 //! pressed into a block of the same material and pushed sideways against Cattaneo-Mindlin
 //! (ADR), the same bits on any thread count, and frictionless scenes untouched.
 
-use pdcontact::run::{run_scene, RunOptions, RunSummary};
-use pdcontact::scene::Scene;
+use pdcontact::run::RunSummary;
 use pdcontact::studies::friction::{
     run_mindlin, run_sliding, MindlinResult, MindlinScene, SlidingBlock,
 };
 
+mod common;
+
 fn temp_dir(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("pdcontact-friction-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
+    common::temp_dir(&format!("friction-{name}"))
 }
 
-/// Runs the scene `text` in a temporary folder named for `name`.
+/// Runs the scene `text` in a temporary folder named for `name`: its summary.
 fn run_text(text: &str, name: &str) -> RunSummary {
-    let dir = temp_dir(name);
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).expect("scene");
-    let scene = Scene::load(&path).expect("scene loads");
-    let (_, summary) = run_scene(
-        &scene,
-        &RunOptions {
-            output: Some(dir.clone()),
-            quiet: true,
-            stop: None,
-            comm: None,
-        },
-    )
-    .expect("runs");
-    let _ = std::fs::remove_dir_all(&dir);
-    summary
+    common::run_text(text, &format!("friction-{name}")).1
 }
 
 fn block(slope: f64) -> SlidingBlock {

@@ -109,3 +109,31 @@ pub fn with_influence(text: &str, influence: &str) -> String {
         &format!("model = \"lps\"\ninfluence_function = \"{influence}\""),
     )
 }
+
+/// A fresh temporary folder `pdcontact-<name>-<pid>`.
+pub fn temp_dir(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("pdcontact-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// Runs the scene `text` in a temporary folder named for `name`, removed after.
+pub fn run_text(text: &str, name: &str) -> (pdcontact::model::Model, pdcontact::run::RunSummary) {
+    let dir = temp_dir(name);
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).expect("scene");
+    let scene = pdcontact::scene::Scene::load(&path).expect("scene loads");
+    let out = pdcontact::run::run_scene(
+        &scene,
+        &pdcontact::run::RunOptions {
+            output: Some(dir.clone()),
+            quiet: true,
+            stop: None,
+            comm: None,
+        },
+    )
+    .expect("runs");
+    let _ = std::fs::remove_dir_all(&dir);
+    out
+}
