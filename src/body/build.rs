@@ -6,6 +6,7 @@
 use nalgebra::{Rotation3, Unit};
 use pdcontact_importers::{boundary_faces, read_path, ElementKind, Format, Mesh};
 
+use super::crack_faces;
 use super::fracture::{self, Fracture};
 use super::{Body, Material, PdBody, RigidBody};
 use crate::case::correction::CorrectionMethod;
@@ -407,6 +408,11 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                 .enumerate()
                 .filter(|(_, c)| c.body == spec.name)
                 .collect();
+            // A body that is its own contact master presses its pre-cracks' faces together.
+            let self_contact = scene
+                .contacts
+                .iter()
+                .any(|c| c.slave == spec.name && c.master == spec.name);
             if s0.is_some() || !precracks.is_empty() {
                 body.enable_fracture(s0);
             }
@@ -434,6 +440,13 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                     ));
                 }
                 body.break_bonds(&cut);
+                let pairs = crack_faces::parted_pairs(&body, &patch, &cut);
+                body.precrack_pairs.push((k, patch.normal, pairs));
+                if self_contact {
+                    let faces = crack_faces::open_faces(&mut body, k, &patch, &cut)
+                        .map_err(|msg| scene.block_error("[[precrack]]", k, msg))?;
+                    body.crack_faces.push(faces);
+                }
             }
             if let Some(v) = spec.velocity {
                 body.set_velocity(Vec3::from(v));

@@ -10,11 +10,13 @@
 //! This module holds the body types; `build.rs` builds them from a scene ([`build_body`]).
 
 mod build;
+pub mod crack_faces;
 pub mod fracture;
 pub mod lps;
 pub mod stress;
 
 pub use build::{body_mesh, build_body, clip_mesh};
+pub use crack_faces::CrackFaces;
 pub use fracture::Fracture;
 pub use lps::Lps;
 
@@ -119,6 +121,11 @@ pub struct PdBody {
     /// Friction's part of the contact forces, where the body is in a pair with friction
     /// (METHOD.md §10); `None` otherwise.
     pub friction: Option<FrictionForces>,
+    /// The faces of its pre-cracks, where the body is its own contact master
+    /// ([`crack_faces`]); empty otherwise.
+    pub crack_faces: Vec<CrackFaces>,
+    /// The particle pairs each `[[precrack]]` parted ([`crack_faces::crossed`]).
+    pub precrack_pairs: Vec<crack_faces::PartedPairs>,
 }
 
 /// A body's friction forces in the last evaluation, per particle.
@@ -286,6 +293,8 @@ impl PdBody {
             owned: 0..n,
             fracture: None,
             friction: None,
+            crack_faces: Vec::new(),
+            precrack_pairs: Vec::new(),
             pairs: PairList::from_bonds(
                 bonds,
                 &bond_weight,

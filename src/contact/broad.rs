@@ -46,7 +46,7 @@ impl ContactPass {
             }
         };
         for (k, &s) in self.slaves.iter().enumerate() {
-            push((sb.position(s as usize) - self.verlet.slave_ref[k]).norm());
+            push((self.slave_point(sb, s) - self.verlet.slave_ref[k]).norm());
         }
         for (k, &n) in self.master_nodes.iter().enumerate() {
             push((view.node(n) - self.verlet.master_ref[k]).norm());
@@ -75,8 +75,9 @@ impl ContactPass {
         let lists: Vec<Vec<u32>> = self
             .slaves
             .par_iter()
-            .map(|&s| {
-                let p = sb.position(s as usize);
+            .enumerate()
+            .map(|(k, &s)| {
+                let p = self.slave_point(sb, s);
                 let mut out = Vec::new();
                 grid.for_each_candidate(&p, radius, |m| {
                     if (master_pos[m as usize] - p).norm_squared() <= radius * radius {
@@ -95,10 +96,22 @@ impl ContactPass {
                 }
                 out.sort_unstable();
                 out.dedup();
+                if let Some(c) = &self.crack {
+                    // A crack's face presses on the other face only.
+                    out.retain(|&seg| {
+                        let side = c.segment_side[seg as usize];
+                        side != u8::MAX && side != c.slave_side[k]
+                    });
+                }
                 out
             })
             .collect();
         let _ = segs;
+        let slave_ref: Vec<Vec3> = self
+            .slaves
+            .iter()
+            .map(|&s| self.slave_point(sb, s))
+            .collect();
         let v = &mut self.verlet;
         v.offsets.clear();
         v.candidates.clear();
@@ -107,11 +120,7 @@ impl ContactPass {
             v.candidates.extend_from_slice(&l);
             v.offsets.push(v.candidates.len() as u32);
         }
-        v.slave_ref = self
-            .slaves
-            .iter()
-            .map(|&s| sb.position(s as usize))
-            .collect();
+        v.slave_ref = slave_ref;
         v.master_ref = master_pos;
         v.rebuilds += 1;
         v.built = true;
@@ -120,7 +129,8 @@ impl ContactPass {
     /// Rebuilds the Verlet list now, whatever the motion since the last rebuild (for timing).
     pub fn rebuild_verlet(&mut self, bodies: &[Body]) {
         let sb = bodies[self.slave].as_pd().expect("slave is deformable");
-        self.rebuild(sb, MasterView::of(&bodies[self.master]));
+        let shift = self.shift.clone();
+        self.rebuild(sb, self.view(bodies, &shift));
     }
 }
 

@@ -68,7 +68,7 @@ pub const WINDOW: f64 = 0.5;
 /// place): `(slave plane bit, master plane bit, axis)`, the bits those of
 /// [`Ghosts::on_plane`](crate::case::Ghosts::on_plane).
 fn shared_planes(slave: &PdBody, master: MasterView) -> Vec<(u8, u8, usize)> {
-    let MasterView::Pd(mb) = master else {
+    let Some(mb) = master.pd() else {
         return Vec::new();
     };
     let mut out = Vec::new();
@@ -105,6 +105,9 @@ fn plane_edge(segment: &MasterSegment, on: impl Fn(u32) -> bool) -> Option<(usiz
 pub enum MasterView<'a> {
     Pd(&'a PdBody),
     Rigid(&'a RigidBody),
+    /// A deformable body whose nodes stand shifted by a fixed offset each (the faces of a
+    /// pre-crack, each moved onto the crack plane: [`ContactPass::crack`]).
+    Shifted(&'a PdBody, &'a [Vec3]),
 }
 
 impl<'a> MasterView<'a> {
@@ -122,13 +125,22 @@ impl<'a> MasterView<'a> {
         match self {
             MasterView::Pd(b) => b.position(i as usize),
             MasterView::Rigid(b) => b.position(i as usize),
+            MasterView::Shifted(b, shift) => b.position(i as usize) + shift[i as usize],
+        }
+    }
+
+    /// The deformable body, if the master is one.
+    pub fn pd(&self) -> Option<&'a PdBody> {
+        match *self {
+            MasterView::Pd(b) | MasterView::Shifted(b, _) => Some(b),
+            MasterView::Rigid(_) => None,
         }
     }
 
     /// The master segments.
     pub fn segments(&self) -> &'a [MasterSegment] {
         match self {
-            MasterView::Pd(b) => b.segments(),
+            MasterView::Pd(b) | MasterView::Shifted(b, _) => b.segments(),
             MasterView::Rigid(b) => &b.faces,
         }
     }
@@ -208,6 +220,20 @@ pub struct ContactPass {
     /// Per slave, the work friction has dissipated over the committed increments or steps,
     /// J (the explicit solver's energy balance).
     pub friction_work: Vec<f64>,
+    /// For the faces of a pre-crack ([`ContactPass::crack`]): the sides.
+    crack: Option<CrackSides>,
+    /// Per particle of the body, for the faces of a pre-crack: the offset that moves a face
+    /// particle onto the crack plane (empty otherwise).
+    shift: std::sync::Arc<Vec<Vec3>>,
+}
+
+/// The two faces of a pre-crack in one pass.
+#[derive(Clone, Debug)]
+struct CrackSides {
+    /// Per slave, its side (0 or 1).
+    slave_side: Vec<u8>,
+    /// Per segment of the master body, its side (`u8::MAX`: not of this crack).
+    segment_side: Vec<u8>,
 }
 
 /// A slave behind a segment by more than the window: the slave, the segment, the gap
@@ -236,15 +262,31 @@ impl ContactPass {
         let sb = bodies[slave]
             .as_pd()
             .expect("slave bodies are deformable (checked by the scene)");
-        let spacing = sb.spacing();
         let slaves: Vec<u32> = (0..sb.len() as u32)
             .filter(|&i| sb.case.surface.is_surface[i as usize])
             .collect();
+        ContactPass::new_with(bodies, slave, master, law, weight, slaves, |_| true)
+    }
+
+    /// A pass of the slaves `slaves` against the master's segments that `segment` keeps.
+    fn new_with(
+        bodies: &[Body],
+        slave: usize,
+        master: usize,
+        law: ContactLaw,
+        weight: f64,
+        slaves: Vec<u32>,
+        segment: impl Fn(usize) -> bool,
+    ) -> ContactPass {
+        let sb = bodies[slave]
+            .as_pd()
+            .expect("slave bodies are deformable (checked by the scene)");
+        let spacing = sb.spacing();
         let slave_count = slaves.len();
         let view = MasterView::of(&bodies[master]);
         let segs = view.segments();
         let node_count = match view {
-            MasterView::Pd(b) => b.len(),
+            MasterView::Pd(b) | MasterView::Shifted(b, _) => b.len(),
             MasterView::Rigid(b) => b.vertices.len(),
         };
         // Segments whose half-diagonal exceeds 1.5 Δ go to the bounding-box phase.
@@ -255,7 +297,7 @@ impl ContactPass {
         let mut big_segments = Vec::new();
         let mut max_small = 0.0f64;
         let mut count = vec![0u32; node_count + 1];
-        for (k, s) in segs.iter().enumerate() {
+        for (k, s) in segs.iter().enumerate().filter(|(k, _)| segment(*k)) {
             let h = half_diag(s);
             if h > 1.5 * spacing {
                 big_segments.push(k as u32);
@@ -271,7 +313,7 @@ impl ContactPass {
         }
         let mut fill = count.clone();
         let mut node_segs = vec![0u32; count[node_count] as usize];
-        for (k, s) in segs.iter().enumerate() {
+        for (k, s) in segs.iter().enumerate().filter(|(k, _)| segment(*k)) {
             if big_segments.binary_search(&(k as u32)).is_ok() {
                 continue;
             }
@@ -280,7 +322,12 @@ impl ContactPass {
                 fill[n as usize] += 1;
             }
         }
-        let mut master_nodes: Vec<u32> = segs.iter().flat_map(|s| s.nodes).collect();
+        let mut master_nodes: Vec<u32> = segs
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| segment(*k))
+            .flat_map(|(_, s)| s.nodes)
+            .collect();
         master_nodes.sort_unstable();
         master_nodes.dedup();
         let window = law.window;
@@ -312,14 +359,80 @@ impl ContactPass {
             sticks: Vec::new(),
             trial: Vec::new(),
             friction_work: Vec::new(),
+            crack: None,
+            shift: Default::default(),
         }
+    }
+
+    /// The pass that presses the two faces of a body's pre-crack together
+    /// ([`crate::body::crack_faces`]): the face particles of each side are slaves against the
+    /// other side's segments, with the weight of a two-pass pair, and each slave's gap is
+    /// measured from the one it has in the reference configuration, where the body was whole
+    /// (the faces touch there).
+    pub fn crack(bodies: &[Body], body: usize, faces: usize, law: ContactLaw) -> ContactPass {
+        let pd = bodies[body].as_pd().expect("a cracked body is deformable");
+        let f = &pd.crack_faces[faces];
+        let mut slaves: Vec<(u32, u8)> = f.particles[0]
+            .iter()
+            .map(|&p| (p, 0))
+            .chain(f.particles[1].iter().map(|&p| (p, 1)))
+            .collect();
+        slaves.sort_unstable();
+        slaves.dedup_by_key(|s| s.0);
+        let segments = pd.segments().len();
+        let segment_side: Vec<u8> = (0..segments)
+            .map(|s| f.side_of_segment(s).unwrap_or(u8::MAX))
+            .collect();
+        let mut pass = ContactPass::new_with(
+            bodies,
+            body,
+            body,
+            law,
+            0.5,
+            slaves.iter().map(|s| s.0).collect(),
+            |s| segment_side[s] != u8::MAX,
+        );
+        pass.crack = Some(CrackSides {
+            slave_side: slaves.iter().map(|s| s.1).collect(),
+            segment_side,
+        });
+        // Each face particle moved onto the crack plane: the two faces meet there, as the
+        // body did before the cut.
+        let mut shift = vec![Vec3::zeros(); pd.len()];
+        for &(p, _) in &slaves {
+            let x = pd.reference[p as usize];
+            shift[p as usize] = -f.normal * f.normal.dot(&(x - f.point));
+        }
+        pass.shift = std::sync::Arc::new(shift);
+        pass
+    }
+
+    /// Whether this pass presses the faces of a pre-crack together ([`ContactPass::crack`]).
+    pub fn is_crack(&self) -> bool {
+        self.crack.is_some()
+    }
+
+    /// The master as this pass sees it (a crack's faces shifted onto its plane).
+    fn view<'a>(&self, bodies: &'a [Body], shift: &'a [Vec3]) -> MasterView<'a> {
+        match &bodies[self.master] {
+            Body::Deformable(b) if !shift.is_empty() => MasterView::Shifted(b, shift),
+            b => MasterView::of(b),
+        }
+    }
+
+    /// Where slave particle `s` meets the master: its position (a crack's face particle
+    /// shifted onto the crack plane).
+    #[inline]
+    fn slave_point(&self, sb: &PdBody, s: u32) -> Vec3 {
+        sb.position(s as usize) + self.shift.get(s as usize).copied().unwrap_or_default()
     }
 
     /// Finds the contacts of this pass at the current positions (broad phase as needed, then
     /// narrow phase). Forces are computed, not applied.
     pub fn detect(&mut self, bodies: &[Body]) {
         let sb = bodies[self.slave].as_pd().expect("slave is deformable");
-        let rebuild = self.needs_rebuild(sb, MasterView::of(&bodies[self.master]));
+        let shift = self.shift.clone();
+        let rebuild = self.needs_rebuild(sb, self.view(bodies, &shift));
         self.detect_with(bodies, rebuild);
     }
 
@@ -328,12 +441,22 @@ impl ContactPass {
     /// decomposed run ([`crate::model::domain`]).
     pub fn largest_moves(&self, bodies: &[Body]) -> Option<[f64; 2]> {
         let sb = bodies[self.slave].as_pd().expect("slave is deformable");
-        self.moves(sb, MasterView::of(&bodies[self.master]))
+        let shift = self.shift.clone();
+        self.moves(sb, self.view(bodies, &shift))
     }
 
     /// Keeps the slaves of `owned` only: a rank of a decomposed run detects contact for its
     /// own particles.
     pub fn keep_slaves(&mut self, owned: std::ops::Range<usize>) {
+        if let Some(c) = &mut self.crack {
+            let keep: Vec<bool> = self
+                .slaves
+                .iter()
+                .map(|&s| owned.contains(&(s as usize)))
+                .collect();
+            let mut k = 0;
+            c.slave_side.retain(|_| (keep[k], k += 1).0);
+        }
         self.slaves.retain(|&s| owned.contains(&(s as usize)));
         self.held = vec![NO_SEGMENT; self.slaves.len()];
         if self.friction > 0.0 {
@@ -345,7 +468,8 @@ impl ContactPass {
     /// [`detect`](Self::detect) with the rebuild decided by the caller.
     pub fn detect_with(&mut self, bodies: &[Body], rebuild: bool) {
         let sb = bodies[self.slave].as_pd().expect("slave is deformable");
-        let view = MasterView::of(&bodies[self.master]);
+        let shift = self.shift.clone();
+        let view = self.view(bodies, &shift);
         if rebuild {
             self.rebuild(sb, view);
         }
@@ -357,7 +481,7 @@ impl ContactPass {
         let project_on = |s: u32, p: Vec3, seg: u32| {
             let x = view.corners(seg as usize);
             let segment = &segs[seg as usize];
-            if let MasterView::Pd(mb) = view {
+            if let Some(mb) = view.pd() {
                 let on = sb
                     .case
                     .ghosts
@@ -410,7 +534,7 @@ impl ContactPass {
             .into_par_iter()
             .map_init(Vec::new, |projections, k| {
                 let s = self.slaves[k];
-                let p = sb.position(s as usize);
+                let p = self.slave_point(sb, s);
                 let (a, b) = (
                     self.verlet.offsets[k] as usize,
                     self.verlet.offsets[k + 1] as usize,
@@ -527,7 +651,7 @@ impl ContactPass {
                     nodal += a;
                 }
             }
-            if let MasterView::Pd(mb) = view {
+            if let Some(mb) = view.pd() {
                 let on = mb.case.ghosts.on_plane.get(node).copied().unwrap_or(0);
                 for (b, plane) in mb.case.ghosts.planes.iter().enumerate() {
                     if on & (1 << b) != 0 {

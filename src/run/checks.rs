@@ -178,6 +178,10 @@ fn check_overlaps(scene: &Scene, model: &Model) -> Result<()> {
         let (Some(s), Some(m)) = (index(&c.slave), index(&c.master)) else {
             continue;
         };
+        // A body's crack faces touch from the start, where the body was whole.
+        if s == m {
+            continue;
+        }
         let mut directions = vec![(s, m)];
         if c.two_pass && model.bodies[m].as_pd().is_some() {
             directions.push((m, s));
@@ -231,6 +235,8 @@ pub(super) fn one_pass_warnings(scene: &Scene, model: &Model) -> Vec<String> {
         .contacts
         .iter()
         .filter(|c| !c.two_pass && c.method == crate::scene::ContactMethod::PointToSurface)
+        // A crack's faces are each other's slaves already.
+        .filter(|c| c.slave != c.master)
         .filter_map(|c| {
             let (s, m) = (index(&c.slave)?, index(&c.master)?);
             let (sb, mb) = (model.bodies[s].as_pd()?, model.bodies[m].as_pd()?);
@@ -286,3 +292,42 @@ pub(super) fn lps_contact_warnings(scene: &Scene, model: &Model) -> Vec<String> 
 /// The Poisson's ratio up to which the LPS skin correction was measured to hold the Hertz
 /// sphere within 3 % (0.3 holds, 0.4 does not).
 const LPS_SKIN_NU: f64 = 0.35;
+
+/// After a run that did not find equilibrium: the pre-crack whose faces passed through each
+/// other, which nothing pressed together (no `[[contact]]` names the body as its own master),
+/// named with the deepest pair of particles; `None` where no face crossed.
+pub fn crossed_cracks(model: &Model, scene: &Scene) -> Option<crate::error::Error> {
+    for body in &model.bodies {
+        let Some(pd) = body.as_pd() else { continue };
+        let Some((k, a, b, depth)) = crate::body::crack_faces::crossed(pd) else {
+            continue;
+        };
+        let pressed = scene
+            .contacts
+            .iter()
+            .any(|c| c.slave == pd.name && c.master == pd.name);
+        let why = if pressed {
+            "though their contact pressed them together: the load is more than the crack faces' penalty holds"
+        } else {
+            "nothing presses the faces of a pre-crack together unless a [[contact]] names the body as its own slave and master"
+        };
+        let (xa, xb) = (pd.reference[a as usize], pd.reference[b as usize]);
+        // Where the run failed, not what was read: a numerical failure at the block's line.
+        return Some(crate::error::Error::Numerical(scene.block_error(
+            "[[precrack]]",
+            k,
+            format!(
+                "the faces of this pre-crack in \"{}\" passed through each other: particle {b} (at [{}, {}, {}]) lies {} m behind particle {a} (at [{}, {}, {}]) across the crack; {why}",
+                pd.name,
+                num(xb.x),
+                num(xb.y),
+                num(xb.z),
+                num(depth),
+                num(xa.x),
+                num(xa.y),
+                num(xa.z),
+            ),
+        ).to_string()));
+    }
+    None
+}

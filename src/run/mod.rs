@@ -326,6 +326,16 @@ pub fn run_scene_with(
     );
     let solve_seconds = solve_start.elapsed().as_secs_f64();
     let summary_path = folder.join("summary.json");
+    let result = match result {
+        // A run without equilibrium whose crack faces went through each other: that is why.
+        Ok(s) if !s.converged && !s.interrupted && s.unheld.is_none() => {
+            checks::crossed_cracks(&model, scene).map_or(Ok(s), Err)
+        }
+        Err(Error::Numerical(m)) => {
+            Err(checks::crossed_cracks(&model, scene).unwrap_or(Error::Numerical(m)))
+        }
+        r => r,
+    };
     let (stats, error) = match result {
         // A body gone past everything it touches: the scene cannot be solved quasi-statically.
         Ok(s) if s.unheld.is_some() => {

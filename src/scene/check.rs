@@ -363,13 +363,7 @@ impl Scene {
                 }
             }
             if c.slave == c.master {
-                return Err(err(
-                    &format!("slave = \"{}\"", c.slave),
-                    format!(
-                        "contact pair names body \"{}\" as both slave and master",
-                        c.slave
-                    ),
-                ));
+                self.check_self_contact(c, &err)?;
             }
             if s.kind == BodyKind::Rigid {
                 return Err(err(

@@ -119,3 +119,44 @@ impl Scene {
         Ok(())
     }
 }
+
+impl Scene {
+    /// A `[[contact]]` whose slave and master are one body: the faces of that body's
+    /// pre-cracks pressed together ([`crate::body::crack_faces`]). It needs a pre-crack, the
+    /// point-to-surface method, and no friction yet; `err` points at a key of the block.
+    pub(super) fn check_self_contact(
+        &self,
+        c: &super::ContactSpec,
+        err: &dyn Fn(&str, String) -> Error,
+    ) -> Result<()> {
+        let slave = format!("slave = \"{}\"", c.slave);
+        if !self.precracks.iter().any(|p| p.body == c.slave) {
+            return Err(err(
+                &slave,
+                format!(
+                    "contact pair names body \"{}\" as both slave and master: a body is its own master only across the faces of its pre-cracks, and it has no [[precrack]] (contact between two bodies names two)",
+                    excerpt(&c.slave)
+                ),
+            ));
+        }
+        if c.method == super::ContactMethod::ShortRange {
+            return Err(err(
+                "method",
+                format!(
+                    "the faces of \"{}\"'s pre-cracks are pressed together by the point-to-surface method; the short-range method is between two bodies",
+                    excerpt(&c.slave)
+                ),
+            ));
+        }
+        if c.friction > 0.0 {
+            return Err(err(
+                "friction",
+                format!(
+                    "friction between the faces of \"{}\"'s pre-cracks is not implemented yet: the faces are frictionless (leave friction out)",
+                    excerpt(&c.slave)
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
