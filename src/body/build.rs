@@ -6,8 +6,7 @@
 use nalgebra::{Rotation3, Unit};
 use pdcontact_importers::{boundary_faces, read_path, ElementKind, Format, Mesh};
 
-use super::crack_faces;
-use super::fracture::{self, Fracture};
+use super::fracture::{self, CrackPatch, Fracture};
 use super::{Body, Material, PdBody, RigidBody};
 use crate::case::correction::CorrectionMethod;
 use crate::case::discretize::mesh_median_edge;
@@ -368,7 +367,8 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                             .iter()
                             .any(|c| c.slave == spec.name || c.master == spec.name)),
             };
-            let case = PdCase::build(mesh, options).map_err(|e| match e {
+            let (method, skin) = (options.correction, options.skin_correction);
+            let mut case = PdCase::build(mesh, options).map_err(|e| match e {
                 Error::Input(msg) => {
                     scene.error_in_body(&spec.name, "", &format!("body \"{}\": {msg}", spec.name))
                 }
@@ -381,6 +381,57 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                     &format!("body \"{}\" has no particles", spec.name),
                 ));
             }
+            let precracks: Vec<(usize, &PrecrackSpec)> = scene
+                .precracks
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.body == spec.name)
+                .collect();
+            let patches: Vec<(usize, CrackPatch)> = precracks
+                .iter()
+                .map(|&(k, c)| {
+                    let patch = CrackPatch::new(
+                        Vec3::from(c.point),
+                        Vec3::from(c.normal),
+                        Vec3::from(c.along),
+                        c.size,
+                    );
+                    (k, patch)
+                })
+                .collect();
+            let cuts_nothing = |k: usize| {
+                let c = &scene.precracks[k];
+                scene.block_error(
+                    "[[precrack]]",
+                    k,
+                    format!(
+                        "precrack in \"{}\" cuts no bond: its patch (centre [{}, {}, {}], size [{}, {}]) does not pass between any two of the body's particles; check point, normal and size against where the body is placed",
+                        spec.name,
+                        crate::scene::num(c.point[0]),
+                        crate::scene::num(c.point[1]),
+                        crate::scene::num(c.point[2]),
+                        crate::scene::num(c.size[0]),
+                        crate::scene::num(c.size[1])
+                    ),
+                )
+            };
+            // A body that is its own contact master presses its pre-cracks' faces together:
+            // the case is cut before the body is made, so that its corrections see the faces.
+            let self_contact = scene
+                .contacts
+                .iter()
+                .any(|c| c.slave == spec.name && c.master == spec.name);
+            let cut = if self_contact && !patches.is_empty() {
+                Some(case.cut(&patches, method, skin).map_err(|(k, msg)| {
+                    if msg == "cuts no bond" {
+                        cuts_nothing(k)
+                    } else {
+                        scene.block_error("[[precrack]]", k, msg)
+                    }
+                })?)
+            } else {
+                None
+            };
             let mut body = PdBody::new(
                 &spec.name,
                 case,
@@ -402,50 +453,24 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                 )),
                 (None, s0) => s0,
             };
-            let precracks: Vec<(usize, &PrecrackSpec)> = scene
-                .precracks
-                .iter()
-                .enumerate()
-                .filter(|(_, c)| c.body == spec.name)
-                .collect();
-            // A body that is its own contact master presses its pre-cracks' faces together.
-            let self_contact = scene
-                .contacts
-                .iter()
-                .any(|c| c.slave == spec.name && c.master == spec.name);
             if s0.is_some() || !precracks.is_empty() {
                 body.enable_fracture(s0);
             }
-            for (k, c) in precracks {
-                let patch = fracture::CrackPatch::new(
-                    Vec3::from(c.point),
-                    Vec3::from(c.normal),
-                    Vec3::from(c.along),
-                    c.size,
-                );
-                let cut = Fracture::crossing(&body.case.bonds, &body.reference, &patch);
-                if cut.is_empty() {
-                    return Err(scene.block_error(
-                        "[[precrack]]",
-                        k,
-                        format!(
-                            "precrack in \"{}\" cuts no bond: its patch (centre [{}, {}, {}], size [{}, {}]) does not pass between any two of the body's particles; check point, normal and size against where the body is placed",
-                            spec.name,
-                            crate::scene::num(c.point[0]),
-                            crate::scene::num(c.point[1]),
-                            crate::scene::num(c.point[2]),
-                            crate::scene::num(c.size[0]),
-                            crate::scene::num(c.size[1])
-                        ),
-                    ));
+            match cut {
+                Some(cut) => {
+                    body.crack_faces = cut.faces;
+                    body.precrack_pairs = cut.parted;
                 }
-                body.break_bonds(&cut);
-                let pairs = crack_faces::parted_pairs(&body, &patch, &cut);
-                body.precrack_pairs.push((k, patch.normal, pairs));
-                if self_contact {
-                    let faces = crack_faces::open_faces(&mut body, k, &patch, &cut)
-                        .map_err(|msg| scene.block_error("[[precrack]]", k, msg))?;
-                    body.crack_faces.push(faces);
+                None => {
+                    for (k, patch) in patches {
+                        let cut = Fracture::crossing(&body.case.bonds, &body.reference, &patch);
+                        if cut.is_empty() {
+                            return Err(cuts_nothing(k));
+                        }
+                        body.break_bonds(&cut);
+                        let pairs = parted(&body, &patch, &cut);
+                        body.precrack_pairs.push((k, patch.normal, pairs));
+                    }
                 }
             }
             if let Some(v) = spec.velocity {
@@ -574,4 +599,25 @@ fn plane_faces(spec: &BodySpec) -> (Vec<Vec3>, Vec<MasterSegment>) {
     }
     transform_points(&mut vertices, spec);
     (vertices, faces)
+}
+
+/// The real particle pairs whose bonds `cut` (`(i, bond)`) removed, each as `(behind, in
+/// front)` of `patch`'s normal (what [`PdBody::crossed_crack`] watches).
+fn parted(body: &PdBody, patch: &CrackPatch, cut: &[(u32, u32)]) -> Vec<(u32, u32)> {
+    let n = body.len();
+    cut.iter()
+        .filter_map(|&(i, b)| {
+            let j = body.case.bonds.partner[b as usize];
+            ((j as usize) < n).then(|| {
+                let d = patch
+                    .normal
+                    .dot(&(body.reference[j as usize] - body.reference[i as usize]));
+                if d > 0.0 {
+                    (i, j)
+                } else {
+                    (j, i)
+                }
+            })
+        })
+        .collect()
 }

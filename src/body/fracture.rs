@@ -20,6 +20,7 @@
 use rayon::prelude::*;
 
 use crate::case::correction::volume_correction;
+pub use crate::case::crack_faces::CrackPatch;
 use crate::case::neighbours::BondList;
 use crate::case::pairs::PairList;
 use crate::case::PdCase;
@@ -33,47 +34,6 @@ const CHUNK: usize = 1024;
 pub fn critical_stretch(fracture_energy: f64, youngs: f64, poisson: f64, horizon: f64) -> f64 {
     let bulk = youngs / (3.0 * (1.0 - 2.0 * poisson));
     (5.0 * fracture_energy / (9.0 * bulk * horizon)).sqrt()
-}
-
-/// A planar rectangular crack patch in the reference configuration.
-#[derive(Clone, Copy, Debug)]
-pub struct CrackPatch {
-    pub point: Vec3,
-    /// Unit normal.
-    pub normal: Vec3,
-    /// Unit in-plane directions of the two sides.
-    pub sides: [Vec3; 2],
-    /// Half lengths along `sides`.
-    pub half: [f64; 2],
-}
-
-impl CrackPatch {
-    /// The patch centred at `point` with normal `normal`, its first side along `along`
-    /// (projected into the plane) and side lengths `size`.
-    pub fn new(point: Vec3, normal: Vec3, along: Vec3, size: [f64; 2]) -> CrackPatch {
-        let n = normal.normalize();
-        let e1 = (along - n * n.dot(&along)).normalize();
-        CrackPatch {
-            point,
-            normal: n,
-            sides: [e1, n.cross(&e1)],
-            half: [0.5 * size[0], 0.5 * size[1]],
-        }
-    }
-
-    /// Whether the segment from `a` to `b` crosses the patch (a point on the plane counts on
-    /// its positive side).
-    pub fn cuts(&self, a: Vec3, b: Vec3) -> bool {
-        let (da, db) = (
-            self.normal.dot(&(a - self.point)),
-            self.normal.dot(&(b - self.point)),
-        );
-        if (da < 0.0) == (db < 0.0) {
-            return false;
-        }
-        let q = a + (b - a) * (da / (da - db)) - self.point;
-        (0..2).all(|k| self.sides[k].dot(&q).abs() <= self.half[k])
-    }
 }
 
 /// The state of a body's bonds once they may fail.
@@ -239,17 +199,9 @@ impl Fracture {
     }
 
     /// The bonds `(i, b)` that cross `patch` (reference positions `x`, images included), each
-    /// real pair once.
+    /// real pair once ([`CrackPatch::crossing`]).
     pub fn crossing(bonds: &BondList, x: &[Vec3], patch: &CrackPatch) -> Vec<(u32, u32)> {
-        let n = bonds.particles();
-        (0..n)
-            .flat_map(|i| bonds.range(i).map(move |b| (i, b)))
-            .filter(|&(i, b)| {
-                let j = bonds.partner[b] as usize;
-                (j > i || j >= n) && patch.cuts(x[i], x[j])
-            })
-            .map(|(i, b)| (i as u32, b as u32))
-            .collect()
+        patch.crossing(bonds, x)
     }
 
     /// The fragments: groups of particles joined by intact bonds (mirror images aside), as

@@ -10,13 +10,12 @@
 //! This module holds the body types; `build.rs` builds them from a scene ([`build_body`]).
 
 mod build;
-pub mod crack_faces;
 pub mod fracture;
 pub mod lps;
 pub mod stress;
 
+pub use crate::case::crack_faces::CrackFaces;
 pub use build::{body_mesh, build_body, clip_mesh};
-pub use crack_faces::CrackFaces;
 pub use fracture::Fracture;
 pub use lps::Lps;
 
@@ -122,10 +121,10 @@ pub struct PdBody {
     /// (METHOD.md §10); `None` otherwise.
     pub friction: Option<FrictionForces>,
     /// The faces of its pre-cracks, where the body is its own contact master
-    /// ([`crack_faces`]); empty otherwise.
+    /// ([`crate::case::crack_faces`]); empty otherwise.
     pub crack_faces: Vec<CrackFaces>,
-    /// The particle pairs each `[[precrack]]` parted ([`crack_faces::crossed`]).
-    pub precrack_pairs: Vec<crack_faces::PartedPairs>,
+    /// The particle pairs each `[[precrack]]` parted ([`PdBody::crossed_crack`]).
+    pub precrack_pairs: Vec<crate::case::crack_faces::PartedPairs>,
 }
 
 /// A body's friction forces in the last evaluation, per particle.
@@ -336,6 +335,23 @@ impl PdBody {
                 &mut self.pairs,
             );
         }
+    }
+
+    /// Where the body's pre-crack faces have passed through each other: the pair of
+    /// particles that crossed deepest, `(precrack, behind, in front, depth)`, the depth how
+    /// far the particle in front now lies behind its partner along the normal, m. `None`
+    /// where none crossed.
+    pub fn crossed_crack(&self) -> Option<(usize, u32, u32, f64)> {
+        let mut deepest: Option<(usize, u32, u32, f64)> = None;
+        for (k, normal, pairs) in &self.precrack_pairs {
+            for &(a, b) in pairs {
+                let d = -normal.dot(&(self.position(b as usize) - self.position(a as usize)));
+                if d > 0.0 && deepest.is_none_or(|x| d > x.3) {
+                    deepest = Some((*k, a, b, d));
+                }
+            }
+        }
+        deepest
     }
 
     /// Damage of particle `i` (0 where bonds do not fail).

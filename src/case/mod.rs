@@ -18,6 +18,7 @@
 //! | the assembled case ([`PdCase`]), symmetry ghosts | this module |
 
 pub mod correction;
+pub mod crack_faces;
 pub mod discretize;
 pub mod generators;
 pub mod neighbours;

@@ -60,6 +60,10 @@ use narrow::within_window;
 pub const FEATURE_ANGLE: f64 = std::f64::consts::PI / 6.0;
 const FEATURE_COS: f64 = 0.866_025_403_784_438_6;
 
+/// How far beyond the other face's edge a crack's face particle still presses on it, in
+/// spacings ([`ContactPass::crack`]).
+pub const CRACK_EDGE_MARGIN: f64 = 0.25;
+
 /// Skin of the Verlet list, in slave spacings.
 pub const SKIN: f64 = 0.3;
 /// The contact window, in slave spacings (the paper's 0.5Δ).
@@ -530,6 +534,11 @@ impl ContactPass {
             let trial = anchor.map(|a| (a, point.slip_work));
             (Some((point, trial)), None)
         };
+        let edge_margin = if self.crack.is_some() {
+            CRACK_EDGE_MARGIN * self.spacing
+        } else {
+            0.0
+        };
         let results: Vec<Found> = (0..self.slaves.len())
             .into_par_iter()
             .map_init(Vec::new, |projections, k| {
@@ -558,9 +567,13 @@ impl ContactPass {
                     project_on(s, p, seg).map(|(pr, outside)| (seg, pr, outside))
                 }));
                 let normal = std::cell::LazyCell::new(|| slave_normal(sb, s as usize));
+                // A crack's face particle at the face's edge lies on the other face's edge;
+                // the faces' lateral strains differ by a hair, and it would drop off that edge
+                // and back in by turns: within a margin it stays on the segment it is nearest.
+                let any_inside = projections.iter().any(|c| c.2 == 0.0);
                 let inside = projections
                     .iter()
-                    .filter(|c| c.2 == 0.0)
+                    .filter(|c| c.2 == 0.0 || (!any_inside && c.2 <= edge_margin))
                     .map(|&(seg, pr, _)| (seg, pr));
                 match select_segment(inside, || *normal, window) {
                     Touch::Contact(seg, pr) => contact(k, s, seg, pr),

@@ -299,7 +299,7 @@ const LPS_SKIN_NU: f64 = 0.35;
 pub fn crossed_cracks(model: &Model, scene: &Scene) -> Option<crate::error::Error> {
     for body in &model.bodies {
         let Some(pd) = body.as_pd() else { continue };
-        let Some((k, a, b, depth)) = crate::body::crack_faces::crossed(pd) else {
+        let Some((k, a, b, depth)) = pd.crossed_crack() else {
             continue;
         };
         let pressed = scene

@@ -1,0 +1,441 @@
+//! The two faces a pre-crack opens, made into contact surfaces (METHOD.md §9; the paper's
+//! "new boundaries" of Sec. 1, which no mesh face marks).
+//!
+//! A `[[precrack]]` removes the bonds that cross its patch; the particles on either side of it
+//! are then a free surface that no boundary face of the mesh describes. For each side:
+//!
+//! * **Face particles**: the particles that lost a bond to the patch and see it: one is
+//!   dropped when another such particle of its side lies between it and the plane, within
+//!   the 45° cone about the plane's normal (the same occlusion rule as the eigenvalue
+//!   surface's, `case::surface`). On a lattice that is the row next to the crack.
+//! * **Master segments**: the face particles' projections on the crack plane, triangulated
+//!   (Delaunay: the triangulation of a point set that has the fewest slivers), wound outward
+//!   (away from the side's own material); triangles longer than [`LONGEST_EDGE`] spacings on
+//!   an edge are the hull's slivers across a gap and are left out.
+//! * **Areas**: each face particle's cell of the face (its mixed Voronoi area in the
+//!   triangulation), shared out again by volume over the particles within two spacings, as a
+//!   body takes a contact's load ([`crate::case::segments::pressure_areas`]): the pressure area
+//!   over which a face particle's contact force is read as a pressure.
+//!
+//! A face's particles stand back from the crack plane by their own depth (half a spacing on a
+//! lattice cut between two rows), so in the reference configuration the two faces are apart by
+//! about a spacing, though the body was whole there. The contact moves each face particle onto
+//! the crack plane by a fixed offset ([`crate::contact::ContactPass::crack`]): the faces touch
+//! where the body was whole, and a compressed crack carries its load from the start.
+
+use crate::case::correction::{surface_correction_with, CorrectionMethod, Horizon};
+use crate::case::neighbours::{BondList, CellGrid};
+use crate::case::segments::{quad_area_normal, MasterSegment};
+use crate::case::skin::{skin_correction, SkinInput};
+use crate::case::PdCase;
+use crate::math::Vec3;
+
+/// A planar rectangular crack patch in the reference configuration.
+#[derive(Clone, Copy, Debug)]
+pub struct CrackPatch {
+    pub point: Vec3,
+    /// Unit normal.
+    pub normal: Vec3,
+    /// Unit in-plane directions of the two sides.
+    pub sides: [Vec3; 2],
+    /// Half lengths along `sides`.
+    pub half: [f64; 2],
+}
+
+impl CrackPatch {
+    /// The patch centred at `point` with normal `normal`, its first side along `along`
+    /// (projected into the plane) and side lengths `size`.
+    pub fn new(point: Vec3, normal: Vec3, along: Vec3, size: [f64; 2]) -> CrackPatch {
+        let n = normal.normalize();
+        let e1 = (along - n * n.dot(&along)).normalize();
+        CrackPatch {
+            point,
+            normal: n,
+            sides: [e1, n.cross(&e1)],
+            half: [0.5 * size[0], 0.5 * size[1]],
+        }
+    }
+
+    /// Whether the segment from `a` to `b` crosses the patch (a point on the plane counts on
+    /// its positive side).
+    pub fn cuts(&self, a: Vec3, b: Vec3) -> bool {
+        let (da, db) = (
+            self.normal.dot(&(a - self.point)),
+            self.normal.dot(&(b - self.point)),
+        );
+        if (da < 0.0) == (db < 0.0) {
+            return false;
+        }
+        let q = a + (b - a) * (da / (da - db)) - self.point;
+        (0..2).all(|k| self.sides[k].dot(&q).abs() <= self.half[k])
+    }
+
+    /// The bonds `(i, bond)` that cross the patch (reference positions `x`, images included),
+    /// each real pair once.
+    pub fn crossing(&self, bonds: &BondList, x: &[Vec3]) -> Vec<(u32, u32)> {
+        let n = bonds.particles();
+        (0..n)
+            .flat_map(|i| bonds.range(i).map(move |b| (i, b)))
+            .filter(|&(i, b)| {
+                let j = bonds.partner[b] as usize;
+                (j > i || j >= n) && self.cuts(x[i], x[j])
+            })
+            .map(|(i, b)| (i as u32, b as u32))
+            .collect()
+    }
+}
+
+/// The radius of the ring of face particles over which the pressure area is shared by
+/// volume, in spacings.
+const RING: f64 = 2.0;
+
+/// The mixed Voronoi areas of a triangle's corners (Meyer et al. 2003): each corner's share of
+/// the triangle's part of its Voronoi cell, `(|PR|² cot Q + |PQ|² cot R)/8`; where the
+/// triangle is obtuse (the circumcentre outside), half the area to the obtuse corner and a
+/// quarter to the others. The shares add up to the triangle's area.
+fn mixed_areas(p: [&delaunator::Point; 3]) -> [f64; 3] {
+    let v = |a: usize, b: usize| (p[b].x - p[a].x, p[b].y - p[a].y);
+    let dot = |u: (f64, f64), w: (f64, f64)| u.0 * w.0 + u.1 * w.1;
+    let cross = |u: (f64, f64), w: (f64, f64)| (u.0 * w.1 - u.1 * w.0).abs();
+    let area = 0.5 * cross(v(0, 1), v(0, 2));
+    if area <= 0.0 {
+        return [0.0; 3];
+    }
+    // The cotangent of the angle at corner k.
+    let cot = |k: usize| {
+        let (a, b) = (v(k, (k + 1) % 3), v(k, (k + 2) % 3));
+        dot(a, b) / cross(a, b)
+    };
+    let obtuse = (0..3).find(|&k| cot(k) < 0.0);
+    std::array::from_fn(|k| match obtuse {
+        Some(o) if o == k => 0.5 * area,
+        Some(_) => 0.25 * area,
+        None => {
+            let (q, r) = ((k + 1) % 3, (k + 2) % 3);
+            let len2 = |a: usize, b: usize| dot(v(a, b), v(a, b));
+            (len2(k, r) * cot(q) + len2(k, q) * cot(r)) / 8.0
+        }
+    })
+}
+
+/// The particle pairs a `[[precrack]]` parted: `(precrack, normal, pairs)`, each pair
+/// `(behind, in front)` of the patch's normal.
+pub type PartedPairs = (usize, Vec3, Vec<(u32, u32)>);
+
+/// What cutting a case gave ([`PdCase::cut`]): the faces of each patch, and the pairs it
+/// parted.
+#[derive(Clone, Debug, Default)]
+pub struct Cut {
+    pub faces: Vec<CrackFaces>,
+    pub parted: Vec<PartedPairs>,
+}
+
+impl PdCase {
+    /// Cuts the case along `patches` (`(precrack, patch)`) for contact between the faces they
+    /// open: every bond that crosses a patch is removed, each patch's two faces are made into
+    /// surface particles and master segments ([`open_faces`]), and the surface and skin
+    /// corrections are computed again over the bonds left, as for the mesh's own faces (a row
+    /// beside a cut has lost the bonds across it, and its correction for the body whole
+    /// leaves it soft: METHOD.md §2). `Err((precrack, message))` where a patch cuts nothing
+    /// or opens too small a face.
+    pub fn cut(
+        &mut self,
+        patches: &[(usize, CrackPatch)],
+        method: CorrectionMethod,
+        skin: bool,
+    ) -> Result<Cut, (usize, String)> {
+        let n = self.particles.len();
+        let mut position = Vec::new();
+        self.ghosts
+            .extend_positions(&self.particles.position, &mut position);
+        let mut out = Cut::default();
+        let mut removed: Vec<(u32, u32)> = Vec::new();
+        let mut lost_of: Vec<Vec<bool>> = Vec::new();
+        for &(k, patch) in patches {
+            let cut = patch.crossing(&self.bonds, &position);
+            if cut.is_empty() {
+                return Err((k, "cuts no bond".to_string()));
+            }
+            let mut lost = vec![false; n];
+            let mut pairs = Vec::new();
+            for &(i, b) in &cut {
+                let j = self.bonds.partner[b as usize];
+                lost[i as usize] = true;
+                if (j as usize) < n {
+                    lost[j as usize] = true;
+                    let d = patch
+                        .normal
+                        .dot(&(position[j as usize] - position[i as usize]));
+                    pairs.push(if d > 0.0 { (i, j) } else { (j, i) });
+                }
+            }
+            out.parted.push((k, patch.normal, pairs));
+            lost_of.push(lost);
+            removed.extend(cut);
+        }
+        self.bonds = without(&self.bonds, &removed);
+        let source: Vec<usize> = (0..position.len())
+            .map(|j| self.ghosts.source_of(j, n))
+            .collect();
+        let partner_volume = self.ghosts.partner_volumes(&self.particles.volume);
+        let local = self.local_spacing.as_ref().map(|s| self.ghosts.extend(s));
+        self.correction = surface_correction_with(
+            &position,
+            &partner_volume,
+            &source,
+            &self.bonds,
+            &Horizon {
+                radius: self.horizon,
+                spacing: self.particles.spacing,
+                local: local.as_deref(),
+            },
+            method,
+        );
+        for (&(k, patch), lost) in patches.iter().zip(&lost_of) {
+            out.faces
+                .push(open_faces(self, k, &patch, lost).map_err(|m| (k, m))?);
+        }
+        if skin {
+            let input = SkinInput {
+                position: &position,
+                partner_volume: &partner_volume,
+                volume: &self.particles.volume,
+                is_surface: &self.surface.is_surface,
+                normal: &self.surface.normal,
+                pressure_area: &self.segments.pressure_area,
+                ghosts: &self.ghosts,
+                horizon: self.horizon,
+            };
+            self.skin = Some(skin_correction(
+                &input,
+                &self.bonds,
+                &mut self.correction.bond_factor,
+            ));
+        }
+        Ok(out)
+    }
+}
+
+/// `bonds` without `removed` (`(i, bond)`, each real pair once): both directions of a real
+/// pair, the bond alone to a mirror image.
+fn without(bonds: &BondList, removed: &[(u32, u32)]) -> BondList {
+    let n = bonds.particles();
+    let mut drop = vec![false; bonds.len()];
+    for &(i, b) in removed {
+        drop[b as usize] = true;
+        let j = bonds.partner[b as usize] as usize;
+        if j < n {
+            if let Some(c) = bonds.range(j).find(|&c| bonds.partner[c] == i) {
+                drop[c] = true;
+            }
+        }
+    }
+    let mut out = BondList {
+        offsets: Vec::with_capacity(n + 1),
+        partner: Vec::with_capacity(bonds.len()),
+        length: Vec::with_capacity(bonds.len()),
+    };
+    out.offsets.push(0);
+    for i in 0..n {
+        for b in bonds.range(i).filter(|&b| !drop[b]) {
+            out.partner.push(bonds.partner[b]);
+            out.length.push(bonds.length[b]);
+        }
+        out.offsets.push(out.partner.len());
+    }
+    out
+}
+
+/// Triangles with an edge longer than this many particle spacings are left out of a face
+/// (the Delaunay hull bridges concave stretches of a face's outline with long slivers).
+pub const LONGEST_EDGE: f64 = 2.5;
+
+/// The faces of one pre-crack: side 0 lies behind the patch's normal (its outward normal is
+/// the patch's `+n`), side 1 in front of it (outward `−n`).
+#[derive(Clone, Debug)]
+pub struct CrackFaces {
+    /// Which `[[precrack]]` of the scene (its index) opened them.
+    pub precrack: usize,
+    /// The patch's unit normal, and its centre (a point of the crack plane).
+    pub normal: Vec3,
+    pub point: Vec3,
+    /// The face particles of each side.
+    pub particles: [Vec<u32>; 2],
+    /// The side of each of the body's segments from `first_segment` on (0 or 1).
+    pub segment_side: Vec<u8>,
+    /// The index of this crack's first segment in the body's segment list.
+    pub first_segment: usize,
+}
+
+impl CrackFaces {
+    /// The side of the body's segment `s` (`None` for a segment not of this crack).
+    pub fn side_of_segment(&self, s: usize) -> Option<u8> {
+        s.checked_sub(self.first_segment)
+            .and_then(|k| self.segment_side.get(k).copied())
+    }
+}
+
+/// Finds the faces `patch` opened in `case` (`lost`: the particles that lost a bond to it),
+/// appends their segments to the case's master segments, and makes the face particles
+/// surface particles with the crack's normal. Errors say what is missing.
+pub fn open_faces(
+    case: &mut PdCase,
+    precrack: usize,
+    patch: &CrackPatch,
+    lost: &[bool],
+) -> Result<CrackFaces, String> {
+    let n = case.particles.len();
+    let spacing = case.particles.spacing;
+    let x = &case.particles.position;
+    let depth = |i: usize| patch.normal.dot(&(x[i] - patch.point));
+    let candidates: Vec<u32> = (0..n as u32).filter(|&i| lost[i as usize]).collect();
+    let points: Vec<Vec3> = candidates.iter().map(|&i| x[i as usize]).collect();
+    let grid = CellGrid::new(&points, 2.0 * spacing);
+    let mut particles: [Vec<u32>; 2] = [Vec::new(), Vec::new()];
+    for (k, &i) in candidates.iter().enumerate() {
+        let di = depth(i as usize);
+        let side = usize::from(di >= 0.0);
+        let mut covered = false;
+        grid.for_each_candidate(&points[k], 2.0 * spacing, |m| {
+            let j = candidates[m as usize] as usize;
+            let dj = depth(j);
+            if covered || (dj >= 0.0) != (di >= 0.0) {
+                return;
+            }
+            // Nearer the plane by more than a tenth of a spacing, and within the 45° cone
+            // from this particle towards the plane.
+            let closer = di.abs() - dj.abs();
+            if closer > 0.1 * spacing && closer <= 2.0 * spacing {
+                let d = x[j] - x[i as usize];
+                let lateral = (d - patch.normal * patch.normal.dot(&d)).norm();
+                covered = lateral <= closer;
+            }
+        });
+        if !covered {
+            particles[side].push(i);
+        }
+    }
+    let first_segment = case.segments.segments.len();
+    let mut segment_side = Vec::new();
+    for (side, list) in particles.iter().enumerate() {
+        if list.len() < 3 {
+            return Err(format!(
+                "precrack {}: side {} of the crack has {} particle(s) facing it, too few for a contact surface (the patch must cut the body over a few spacings at least)",
+                precrack + 1,
+                side,
+                list.len()
+            ));
+        }
+        let outward = if side == 0 {
+            patch.normal
+        } else {
+            -patch.normal
+        };
+        let plane: Vec<delaunator::Point> = list
+            .iter()
+            .map(|&i| {
+                let d = x[i as usize] - patch.point;
+                delaunator::Point {
+                    x: patch.sides[0].dot(&d),
+                    y: patch.sides[1].dot(&d),
+                }
+            })
+            .collect();
+        let triangulation = delaunator::triangulate(&plane);
+        let mut face_area = 0.0;
+        let mut cell = vec![0.0; list.len()];
+        for t in triangulation.triangles.chunks_exact(3) {
+            let mut nodes = [list[t[0]], list[t[1]], list[t[2]], list[t[2]]];
+            let corners = nodes.map(|p| x[p as usize]);
+            let longest = (0..3)
+                .map(|a| (corners[a] - corners[(a + 1) % 3]).norm())
+                .fold(0.0, f64::max);
+            if longest > LONGEST_EDGE * spacing {
+                continue;
+            }
+            let (area, mut normal) = quad_area_normal(corners);
+            if area <= 0.0 {
+                continue;
+            }
+            if normal.dot(&outward) < 0.0 {
+                nodes.swap(1, 2);
+                nodes[3] = nodes[2];
+                normal = -normal;
+            }
+            face_area += area;
+            for (k, a) in mixed_areas([t[0], t[1], t[2]].map(|k| &plane[k]))
+                .into_iter()
+                .enumerate()
+            {
+                cell[t[k]] += a;
+            }
+            for &p in &nodes[..3] {
+                case.segments.boundary_node[p as usize] = true;
+            }
+            case.segments.segments.push(MasterSegment {
+                nodes,
+                area,
+                normal,
+            });
+            segment_side.push(side as u8);
+        }
+        // The pressure area: a particle's cell of the face (its mixed Voronoi area), the
+        // cells around it redistributed by their volumes, as `case::segments::pressure_areas`
+        // does for a mesh face, since a body takes a contact's load by volume. A third of each
+        // triangle would give a lattice's particles 4 to 8 sixths of their cell, as the
+        // triangulation happens to cut its squares; the Voronoi cell is a lattice's square
+        // whichever way.
+        let flat: Vec<Vec3> = plane.iter().map(|p| Vec3::new(p.x, p.y, 0.0)).collect();
+        let grid = CellGrid::new(&flat, RING * spacing);
+        let volume = |k: usize| case.particles.volume[list[k] as usize];
+        let mut area: Vec<f64> = (0..list.len())
+            .map(|k| {
+                let (mut a, mut v) = (0.0, 0.0);
+                grid.for_each_candidate(&flat[k], RING * spacing, |m| {
+                    let m = m as usize;
+                    if (flat[m] - flat[k]).norm() <= RING * spacing {
+                        a += cell[m];
+                        v += volume(m);
+                    }
+                });
+                if v > 0.0 {
+                    volume(k) * a / v
+                } else {
+                    cell[k]
+                }
+            })
+            .collect();
+        let total: f64 = area.iter().sum();
+        if total > 0.0 {
+            area.iter_mut().for_each(|a| *a *= face_area / total);
+        }
+        for (&i, &a) in list.iter().zip(&area) {
+            case.segments.pressure_area[i as usize] += a;
+            // Its reactions are its own: the opposite face's slaves land on its segments
+            // wherever the two faces' particles happen to lie, not by its triangles' thirds.
+            case.segments.tributary_area[i as usize] += a;
+        }
+        let surface = &mut case.surface;
+        for &i in list {
+            let i = i as usize;
+            // A particle on the body's own boundary as well (the crack's edge on a face of
+            // the body) faces both ways: between the two.
+            surface.normal[i] = if surface.is_surface[i] {
+                (surface.normal[i] + outward)
+                    .try_normalize(0.0)
+                    .unwrap_or(outward)
+            } else {
+                outward
+            };
+            surface.is_surface[i] = true;
+        }
+    }
+    Ok(CrackFaces {
+        precrack,
+        normal: patch.normal,
+        point: patch.point,
+        particles,
+        segment_side,
+        first_segment,
+    })
+}
