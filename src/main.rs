@@ -164,11 +164,12 @@ enum Command {
     /// rollers, broken by a third driven down through the contact; prints the peak load
     /// against LEFM's and writes the load-displacement chart (docs/FRACTURE.md).
     Fracture {
-        /// The benchmark: the notched beam against LEFM, or the Kalthoff-Winkler plate.
+        /// The benchmark: the notched beam against LEFM, the Kalthoff-Winkler plate, or a crack
+        /// closed by its load.
         #[arg(long, value_enum, default_value_t = FractureCase::Beam)]
         case: FractureCase,
         /// Grid spacing Δ, m, the horizon 3Δ [default: 0.002 for the beam, whose notch is 20 mm
-        /// deep; 0.0015 for the plate].
+        /// deep; 0.0015 for the plate; 0.05 for the cracked block].
         #[arg(long)]
         spacing: Option<f64>,
         /// The beam's thickness B, m.
@@ -442,6 +443,9 @@ enum FractureCase {
     Beam,
     /// The Kalthoff-Winkler plate hit between its notches at 32 m/s (explicit).
     Kalthoff,
+    /// A block cut through and compressed, the cut's faces pressed together, against the
+    /// block whole; and the block cut at 30° to the load.
+    Closing,
 }
 
 /// How a command ended without an error.
@@ -556,6 +560,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             let spacing = spacing.unwrap_or(match case {
                 FractureCase::Beam => 0.002,
                 FractureCase::Kalthoff => 0.0015,
+                FractureCase::Closing => 0.05,
             });
             for (what, v) in [
                 ("--spacing", spacing),
@@ -568,6 +573,11 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             }
             if steps == 0 {
                 return Err(Error::input("--steps must be at least 1"));
+            }
+            if case == FractureCase::Closing {
+                let r = pdcontact::studies::fracture::run_closing(spacing, &output, quiet)?;
+                print_report(json, &r, || r.to_text());
+                return Ok(Outcome::Done);
             }
             if case == FractureCase::Kalthoff {
                 let plate = pdcontact::studies::fracture::KalthoffPlate {

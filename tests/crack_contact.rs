@@ -6,65 +6,20 @@ mod common;
 
 use pdcontact::body::PdBody;
 
-/// A quarter of a 1 × 1 × 2 m block (hex8, Δ = 0.05 m, symmetry planes x = 0, y = 0 and
-/// z = 0), E = 1 GPa, pressed by 1 MPa on its top face; `extra` is appended.
+use pdcontact::studies::fracture::closing::{
+    block_precrack, block_scene, inclined_scene, top_displacement, SELF_CONTACT,
+};
+
+/// The quarter block of `pdcontact fracture --case closing` (Δ = 0.05 m), with `extra`.
 fn block(extra: &str, max_iterations: usize) -> String {
-    format!(
-        r#"[solver]
-kind = "adr"
-tolerance = 1e-6
-max_iterations = {max_iterations}
-[output]
-every = 1000000
-[[body]]
-name = "block"
-generator = {{ shape = "box", min = [0, 0, 0], max = [0.5, 0.5, 1.0], spacing = 0.05 }}
-kinematics = "small"
-material = {{ youngs_modulus = 1e9, poisson_ratio = 0.25, density = 1000 }}
-[[symmetry]]
-body = "block"
-axis = "x"
-[[symmetry]]
-body = "block"
-axis = "y"
-[[symmetry]]
-body = "block"
-axis = "z"
-[[load]]
-body = "block"
-set = "top"
-force = [0, 0, -2.5e5]
-{extra}"#
-    )
-}
-
-/// The cut: across the whole section, between the particle rows z = 0.5 and z = 0.55.
-const PRECRACK: &str = r#"[[precrack]]
-body = "block"
-point = [0.25, 0.25, 0.525]
-normal = [0, 0, 1]
-along = [1, 0, 0]
-size = [2, 2]
-"#;
-
-const SELF_CONTACT: &str = r#"[[contact]]
-slave = "block"
-master = "block"
-"#;
-
-/// Mean displacement of the top face along z, m.
-fn top_displacement(pd: &PdBody) -> f64 {
-    let top: Vec<usize> = (0..pd.len())
-        .filter(|&i| (pd.reference[i].z - 1.0).abs() < 1e-9)
-        .collect();
-    top.iter().map(|&i| pd.u[i].z).sum::<f64>() / top.len() as f64
+    block_scene(0.05, max_iterations, extra)
 }
 
 #[test]
 fn a_compressed_through_crack_carries_the_load_across_its_faces() {
     let (intact, s0) = common::run_text(&block("", 20_000), "crack-intact");
     let (cracked, s1) = common::run_text(
-        &block(&format!("{PRECRACK}{SELF_CONTACT}"), 20_000),
+        &block(&format!("{}{SELF_CONTACT}", block_precrack(0.05)), 20_000),
         "crack-closed",
     );
     assert!(s0.converged && s1.converged);
@@ -124,7 +79,7 @@ fn a_compressed_through_crack_carries_the_load_across_its_faces() {
 fn crack_faces_that_nothing_presses_together_are_named() {
     let dir = common::temp_dir("crack-open");
     let path = dir.join("scene.toml");
-    std::fs::write(&path, block(PRECRACK, 3_000)).expect("scene");
+    std::fs::write(&path, block(&block_precrack(0.05), 3_000)).expect("scene");
     let scene = pdcontact::scene::Scene::load(&path).expect("scene loads");
     let err = pdcontact::run::run_scene(
         &scene,
@@ -138,7 +93,7 @@ fn crack_faces_that_nothing_presses_together_are_named() {
     let _ = std::fs::remove_dir_all(&dir);
     let msg = err.to_string();
     for needle in [
-        "scene.toml:25:1",
+        "scene.toml:26:1",
         "passed through each other",
         "names the body as its own slave and master",
     ] {
@@ -213,4 +168,55 @@ fn a_through_crack_in_a_gmsh_tet_bar_closes() {
         let p = f / a / 1e6;
         assert!((0.8..1.0).contains(&p), "interior pressure {p}");
     }
+}
+
+/// A crack at 30° to the load (`pdcontact fracture --case closing`): half of a 1 × 1 × 2 m
+/// block (symmetry planes y = 0 and z = 0) whose top and bottom faces are held along x,
+/// 1 MPa on its top face, cut across its whole section by a plane through its middle whose
+/// normal leans 30° from the load.
+#[test]
+fn an_inclined_crack_slides_and_carries_the_load_normal_to_its_faces() {
+    let text = inclined_scene(0.05);
+    let (model, summary) = common::run_text(&text, "crack-tilted");
+    assert!(summary.converged);
+    let pd = model.bodies[0].as_pd().expect("deformable");
+    let faces = &pd.crack_faces[0];
+    let n = faces.normal;
+    // Frictionless faces carry the load along their normal alone: on the upper part,
+    // N cos 30° = P, so N = P / cos 30°, and the top's hold takes N sin 30° = P tan 30°.
+    // The force follows the faces' normal as they are now, turned 0.34° from the
+    // reference normal by the slide (measured: N 0.34 % under, a tangential part of 0.6 %
+    // against the reference normal; the vertical part is P to 1e-6).
+    let expected = 5e5 / (30f64.to_radians().cos());
+    for (side, sign) in faces.particles.iter().zip([-1.0, 1.0]) {
+        let f: pdcontact::math::Vec3 = side.iter().map(|&i| pd.contact_force[i as usize]).sum();
+        assert!(
+            (sign * f.z / 5e5 - 1.0).abs() < 1e-5,
+            "vertical force {f:?}"
+        );
+        let normal = f.dot(&n) * sign;
+        assert!(
+            (normal / expected - 1.0).abs() < 0.01,
+            "normal force {normal}, expected {expected}"
+        );
+        let angle = (f.dot(&n).abs() / f.norm()).min(1.0).acos().to_degrees();
+        assert!(
+            angle < 1.0,
+            "the faces' force turned {angle}° from their normal"
+        );
+    }
+    // The upper part slid down the lower along the crack: the faces' mean displacements
+    // differ along the plane's downhill direction by more than they press into each other.
+    let mean = |side: &[u32]| {
+        side.iter()
+            .map(|&i| pd.u[i as usize])
+            .sum::<pdcontact::math::Vec3>()
+            / side.len() as f64
+    };
+    let slip = mean(&faces.particles[1]) - mean(&faces.particles[0]);
+    let downhill = pdcontact::math::Vec3::new(-n.z, 0.0, n.x);
+    assert!(
+        slip.dot(&downhill).abs() > 10.0 * slip.dot(&n).abs(),
+        "slip {slip:?}"
+    );
 }

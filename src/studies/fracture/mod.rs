@@ -2,12 +2,15 @@
 //! docs/FRACTURE.md): a notched three-point bend beam broken under displacement control
 //! against linear elastic fracture mechanics ([`beam`]), and the Kalthoff-Winkler plate hit
 //! between its notches by a projectile, whose cracks leave the notch tips at about 70°
-//! ([`kalthoff`]).
+//! ([`kalthoff`]); and a block cut through and compressed, its crack's faces pressed together
+//! ([`closing`]).
 
 pub mod beam;
+pub mod closing;
 pub mod kalthoff;
 
 pub use beam::{lefm_peak_load, run_beam, shape_factor, BeamResult, NotchedBeam};
+pub use closing::{run_closing, ClosingResult};
 pub use kalthoff::{run_kalthoff, KalthoffPlate, KalthoffResult};
 
 /// The studies' run helper, without an observer.
