@@ -369,10 +369,10 @@ impl ContactPass {
     }
 
     /// The pass that presses the two faces of a body's pre-crack together
-    /// ([`crate::body::crack_faces`]): the face particles of each side are slaves against the
-    /// other side's segments, with the weight of a two-pass pair, and each slave's gap is
-    /// measured from the one it has in the reference configuration, where the body was whole
-    /// (the faces touch there).
+    /// ([`crate::case::crack_faces`]): the face particles of each side are slaves against the
+    /// other side's segments, with the weight of a two-pass pair, and every face particle,
+    /// slave point and master node alike, is moved onto the crack plane by a fixed offset, so
+    /// that the faces touch where the body was whole.
     pub fn crack(bodies: &[Body], body: usize, faces: usize, law: ContactLaw) -> ContactPass {
         let pd = bodies[body].as_pd().expect("a cracked body is deformable");
         let f = &pd.crack_faces[faces];

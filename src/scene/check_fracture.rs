@@ -122,7 +122,7 @@ impl Scene {
 
 impl Scene {
     /// A `[[contact]]` whose slave and master are one body: the faces of that body's
-    /// pre-cracks pressed together ([`crate::body::crack_faces`]). It needs a pre-crack, the
+    /// pre-cracks pressed together ([`crate::case::crack_faces`]). It needs a pre-crack, the
     /// point-to-surface method, and no friction yet; `err` points at a key of the block.
     pub(super) fn check_self_contact(
         &self,
