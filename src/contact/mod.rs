@@ -31,6 +31,7 @@
 //!   master deeper than the window, which the penalty cannot push back (`run` refuses them).
 
 mod broad;
+mod crack;
 pub mod estimate;
 pub mod friction;
 mod law;
@@ -41,6 +42,8 @@ pub mod shortrange;
 use rayon::prelude::*;
 
 pub use broad::VerletList;
+use crack::CrackSides;
+pub use crack::CRACK_EDGE_MARGIN;
 pub use law::{default_radius, hertz_stiffness, ContactLaw};
 pub use narrow::{
     project, project_any, project_on_plane_edge, select_across_edge, select_segment, slave_normal,
@@ -59,10 +62,6 @@ use narrow::within_window;
 /// and do not smooth its normal ([`ContactPass::smooth_normal`]).
 pub const FEATURE_ANGLE: f64 = std::f64::consts::PI / 6.0;
 const FEATURE_COS: f64 = 0.866_025_403_784_438_6;
-
-/// How far beyond the other face's edge a crack's face particle still presses on it, in
-/// spacings ([`ContactPass::crack`]).
-pub const CRACK_EDGE_MARGIN: f64 = 0.25;
 
 /// Skin of the Verlet list, in slave spacings.
 pub const SKIN: f64 = 0.3;
@@ -231,15 +230,6 @@ pub struct ContactPass {
     shift: std::sync::Arc<Vec<Vec3>>,
 }
 
-/// The two faces of a pre-crack in one pass.
-#[derive(Clone, Debug)]
-struct CrackSides {
-    /// Per slave, its side (0 or 1).
-    slave_side: Vec<u8>,
-    /// Per segment of the master body, its side (`u8::MAX`: not of this crack).
-    segment_side: Vec<u8>,
-}
-
 /// A slave behind a segment by more than the window: the slave, the segment, the gap
 /// (negative).
 pub type Miss = (u32, u32, f64);
@@ -366,54 +356,6 @@ impl ContactPass {
             crack: None,
             shift: Default::default(),
         }
-    }
-
-    /// The pass that presses the two faces of a body's pre-crack together
-    /// ([`crate::case::crack_faces`]): the face particles of each side are slaves against the
-    /// other side's segments, with the weight of a two-pass pair, and every face particle,
-    /// slave point and master node alike, is moved onto the crack plane by a fixed offset, so
-    /// that the faces touch where the body was whole.
-    pub fn crack(bodies: &[Body], body: usize, faces: usize, law: ContactLaw) -> ContactPass {
-        let pd = bodies[body].as_pd().expect("a cracked body is deformable");
-        let f = &pd.crack_faces[faces];
-        let mut slaves: Vec<(u32, u8)> = f.particles[0]
-            .iter()
-            .map(|&p| (p, 0))
-            .chain(f.particles[1].iter().map(|&p| (p, 1)))
-            .collect();
-        slaves.sort_unstable();
-        slaves.dedup_by_key(|s| s.0);
-        let segments = pd.segments().len();
-        let segment_side: Vec<u8> = (0..segments)
-            .map(|s| f.side_of_segment(s).unwrap_or(u8::MAX))
-            .collect();
-        let mut pass = ContactPass::new_with(
-            bodies,
-            body,
-            body,
-            law,
-            0.5,
-            slaves.iter().map(|s| s.0).collect(),
-            |s| segment_side[s] != u8::MAX,
-        );
-        pass.crack = Some(CrackSides {
-            slave_side: slaves.iter().map(|s| s.1).collect(),
-            segment_side,
-        });
-        // Each face particle moved onto the crack plane: the two faces meet there, as the
-        // body did before the cut.
-        let mut shift = vec![Vec3::zeros(); pd.len()];
-        for &(p, _) in &slaves {
-            let x = pd.reference[p as usize];
-            shift[p as usize] = -f.normal * f.normal.dot(&(x - f.point));
-        }
-        pass.shift = std::sync::Arc::new(shift);
-        pass
-    }
-
-    /// Whether this pass presses the faces of a pre-crack together ([`ContactPass::crack`]).
-    pub fn is_crack(&self) -> bool {
-        self.crack.is_some()
     }
 
     /// The master as this pass sees it (a crack's faces shifted onto its plane).

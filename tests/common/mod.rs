@@ -120,6 +120,14 @@ pub fn temp_dir(name: &str) -> std::path::PathBuf {
 
 /// Runs the scene `text` in a temporary folder named for `name`, removed after.
 pub fn run_text(text: &str, name: &str) -> (pdcontact::model::Model, pdcontact::run::RunSummary) {
+    try_run_text(text, name).expect("runs")
+}
+
+/// [`run_text`], the run's error returned (a scene that does not load fails the test).
+pub fn try_run_text(
+    text: &str,
+    name: &str,
+) -> pdcontact::Result<(pdcontact::model::Model, pdcontact::run::RunSummary)> {
     let dir = temp_dir(name);
     let path = dir.join("scene.toml");
     std::fs::write(&path, text).expect("scene");
@@ -132,8 +140,7 @@ pub fn run_text(text: &str, name: &str) -> (pdcontact::model::Model, pdcontact::
             stop: None,
             comm: None,
         },
-    )
-    .expect("runs");
+    );
     let _ = std::fs::remove_dir_all(&dir);
     out
 }
