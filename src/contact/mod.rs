@@ -103,6 +103,27 @@ fn plane_edge(segment: &MasterSegment, on: impl Fn(u32) -> bool) -> Option<(usiz
     }
 }
 
+/// Each segment's unit normal at rest (zero for a degenerate one): a deformable master's
+/// reference positions (a crack's faces shifted onto its plane), a rigid one's vertices (it
+/// only translates).
+fn reference_normals(view: MasterView) -> Vec<Vec3> {
+    let reference = |n: u32| match view {
+        MasterView::Pd(b) => b.reference[n as usize],
+        MasterView::Shifted(b, shift) => b.reference[n as usize] + shift[n as usize],
+        MasterView::Rigid(b) => b.vertices[n as usize],
+    };
+    view.segments()
+        .iter()
+        .map(|s| {
+            let c = s.nodes.map(reference);
+            (c[2] - c[0])
+                .cross(&(c[3] - c[1]))
+                .try_normalize(0.0)
+                .unwrap_or_else(Vec3::zeros)
+        })
+        .collect()
+}
+
 /// A read-only view of a master surface: node positions and segments.
 #[derive(Clone, Copy)]
 pub enum MasterView<'a> {
@@ -201,6 +222,9 @@ pub struct ContactPass {
     /// Master node → segments (CSR over node index).
     node_seg_offsets: Vec<u32>,
     node_segs: Vec<u32>,
+    /// Per master segment, its unit normal in the reference configuration: which segments
+    /// around a node are smooth neighbours ([`FEATURE_ANGLE`]) is decided on these, once.
+    reference_normals: Vec<Vec3>,
     /// Segments found by bounding box (much larger than the slave spacing).
     big_segments: Vec<u32>,
     pub verlet: VerletList,
@@ -324,6 +348,7 @@ impl ContactPass {
             .collect();
         master_nodes.sort_unstable();
         master_nodes.dedup();
+        let reference_normals = reference_normals(view);
         let window = law.window;
         // A slave inside a segment's projection within the window is at most this far from the
         // segment's nearest corner.
@@ -343,6 +368,7 @@ impl ContactPass {
             master_nodes,
             node_seg_offsets: count,
             node_segs,
+            reference_normals,
             big_segments,
             verlet: VerletList::default(),
             contacts: Vec::new(),
@@ -560,8 +586,8 @@ impl ContactPass {
     /// The direction of a contact's force: the master's normal interpolated at the slave's
     /// projection, `Σ N_a n_a` normalised, from the nodal normals `n_a` of the segment's
     /// corners (the area-weighted mean of the current normals of the segments around each
-    /// corner that lie within [`FEATURE_ANGLE`] of this one; on a symmetry plane of the master,
-    /// in the plane, as the segments' mirror images make it).
+    /// corner that lay within [`FEATURE_ANGLE`] of this one at rest; on a symmetry plane of the
+    /// master, in the plane, as the segments' mirror images make it).
     ///
     /// A faceted master's own normal turns by the angle between two facets where a slave
     /// crosses their edge, and a slave pressed onto a master node sits at the apex of the
@@ -572,6 +598,12 @@ impl ContactPass {
     /// FE codes smooth a master surface); a feature edge (a punch's corner) keeps its facets'
     /// own normals, and a segment with no smooth neighbour (a rigid plane's large faces)
     /// keeps its own. The gap stays the one measured against the segment (Eq. 21).
+    ///
+    /// Which segments are smooth neighbours is decided once, at rest: chosen on the current
+    /// normals, a neighbour dropped out of the mean wherever the slaves dimpled a deformable
+    /// master by more than the feature angle, the normal jumped by 10° between iterations at
+    /// the same projection, and with one pass between two gmsh tet spheres neither solver found
+    /// an equilibrium (docs/VALIDATION.md, "Two deformable bodies", one pass).
     fn smooth_normal(&self, view: MasterView, segment: u32, pr: &Projection) -> Vec3 {
         let segs = view.segments();
         let own = pr.normal;
@@ -598,12 +630,14 @@ impl ContactPass {
                 continue;
             };
             let mut nodal = Vec3::zeros();
+            let this = self.reference_normals[segment as usize];
             for &t in around {
-                let x = view.corners(t as usize);
-                // Twice the area times the unit normal (Eq. 18's diagonals).
-                let a = (x[2] - x[0]).cross(&(x[3] - x[1]));
-                if a.dot(&own) > FEATURE_COS * a.norm() {
-                    nodal += a;
+                // A smooth neighbour at rest stays one: the set does not change as the
+                // surface deforms, so the normal is a continuous function of the nodes.
+                if self.reference_normals[t as usize].dot(&this) > FEATURE_COS {
+                    let x = view.corners(t as usize);
+                    // Twice the area times the unit normal (Eq. 18's diagonals).
+                    nodal += (x[2] - x[0]).cross(&(x[3] - x[1]));
                 }
             }
             if let Some(mb) = view.pd() {
