@@ -164,7 +164,7 @@ fn two_gmsh_tet_spheres_pressed_together_agree_with_hertz() {
         "ADR: residual {} after {}",
         s.residual, s.iterations
     );
-    // Measured: 760 against 500.
+    // Measured: 840 against 500.
     assert!(
         s.iterations <= 2 * rigid.summary.iterations,
         "ADR: {} iterations, the same mesh on a rigid plane {}",
@@ -277,39 +277,58 @@ fn an_lps_sphere_on_a_bond_based_one() {
     }
 }
 
-/// With one pass ADR loses a slave: the error names it, the segment and the depth, and says
-/// that the penalty (which Hertz's estimate shows stiff enough) is not the cause.
+/// With one pass both solvers converge to the same equilibrium, and the slave's figures are
+/// its mesh's (measured on this pair: ADR 1,202 iterations, static 56; upper MRE 4.65 %,
+/// radius −1.10 %; two passes 4.29 %, +1.72 %; the upper mesh on a rigid plane 4.40 %,
+/// +1.74 %). Before the run, `run --check` says that the master's pressure reads rough.
 #[test]
-fn one_pass_miss_names_the_particle_and_clears_the_penalty() {
+fn one_pass_converges_to_the_slaves_figures() {
     let dir = temp_dir("one-pass");
     let path = dir.join("scene.toml");
     std::fs::write(&path, scene("adr", "tet4", false)).expect("scene written");
-    let scene = Scene::load(&path).expect("scene reads");
-    // Said before the run: two bodies as fine as each other, one pass.
-    let (_, warnings, _) = check_scene(&scene).expect("the scene checks");
+    let checked = Scene::load(&path).expect("scene reads");
+    let (_, warnings, _) = check_scene(&checked).expect("the scene checks");
     assert!(
-        warnings
-            .iter()
-            .any(|w| w.contains("two_pass = false") && w.contains("set two_pass = true")),
+        warnings.iter().any(|w| w.contains("two_pass = false")
+            && w.contains("reads rough")
+            && w.contains("set two_pass = true")),
         "{warnings:?}"
     );
-    let result = run_scene(
-        &scene,
-        &RunOptions {
-            output: Some(dir.join("out")),
-            quiet: true,
-            stop: None,
-            comm: None,
-        },
-    );
-    let err = match result {
-        Ok(_) => panic!("one pass: no contact missed"),
-        Err(e) => e.to_string(),
-    };
     let _ = std::fs::remove_dir_all(&dir);
-    assert!(err.contains("missed contact at iteration"), "{err}");
-    assert!(err.contains("the deepest: node"), "{err}");
-    assert!(err.contains("behind the segment on nodes"), "{err}");
-    assert!(err.contains("not the penalty"), "{err}");
-    assert!(err.contains("two_pass = true"), "{err}");
+    let adr = run(
+        "one-pass-adr",
+        &scene("adr", "tet4", false),
+        two_spheres_e_star(),
+        0.5,
+    );
+    let newton = run(
+        "one-pass-static",
+        &scene("static", "tet4", false),
+        two_spheres_e_star(),
+        0.5,
+    );
+    for (what, f) in [("ADR", &adr), ("static", &newton)] {
+        assert!(
+            f.summary.converged,
+            "{what}: residual {} after {}",
+            f.summary.residual, f.summary.iterations
+        );
+        let (mre, radius, force) = f.bodies[0];
+        assert!(mre < 0.05, "{what}: upper MRE {mre}");
+        assert!(radius.abs() < 0.03, "{what}: upper radius error {radius}");
+        assert!(force.abs() < 1e-3, "{what}: contact force off by {force}");
+    }
+    assert!(
+        newton.summary.iterations <= 60,
+        "{}",
+        newton.summary.iterations
+    );
+    let (a, b) = (adr.bodies[0], newton.bodies[0]);
+    assert!((a.0 - b.0).abs() < 1e-3, "MRE: ADR {} static {}", a.0, b.0);
+    assert!(
+        (a.1 - b.1).abs() < 1e-3,
+        "radius: ADR {} static {}",
+        a.1,
+        b.1
+    );
 }

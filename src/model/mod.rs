@@ -221,6 +221,19 @@ impl Model {
         pairs
     }
 
+    /// Whether pass `p` presses one deformable body on another checked one way only
+    /// (`two_pass = false`): the master's nodes are then nobody's slaves, and nothing but
+    /// the contacts on their segments weighs them in ADR's density.
+    pub fn is_one_way_deformable(&self, p: &ContactPass) -> bool {
+        p.weight == 1.0
+            && p.slave != p.master
+            && matches!(self.bodies[p.master], Body::Deformable(_))
+            && !self
+                .passes
+                .iter()
+                .any(|q| q.slave == p.master && q.master == p.slave)
+    }
+
     /// The Hertz estimate of every contact pair under the applied loads, and how the slave's
     /// particles resolve it ([`crate::contact::estimate`]), at the reference configuration.
     pub fn contact_resolution(&self) -> Vec<ContactResolution> {

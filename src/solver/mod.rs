@@ -278,16 +278,9 @@ fn penalty_not_the_cause(model: &Model) -> Option<String> {
     if missed.is_empty() || !(worst < 0.1) {
         return None;
     }
-    let one_pass = missed.iter().any(|p| {
-        p.weight == 1.0
-            && matches!(model.bodies[p.master], Body::Deformable(_))
-            && !model
-                .passes
-                .iter()
-                .any(|q| q.slave == p.master && q.master == p.slave)
-    });
+    let one_pass = missed.iter().any(|p| model.is_one_way_deformable(p));
     let what = if one_pass {
-        "with one pass only the slave's particles are checked against the master's surface, not the master's against the slave's, so a master as fine as the slave can pass between its particles while the solver moves them: set `two_pass = true` on the [[contact]], or solve with kind = \"static\""
+        "with one pass only the slave's particles are kept out of the master's surface, not the master's out of the slave's, and ADR's transient can carry a master node into the slave: solve with kind = \"static\" (it converged on every one-pass pair measured) or set `two_pass = true` on the [[contact]]"
     } else {
         "the solver's transient carried it through before the contacts took the load: apply the load in steps (load_steps) or solve with kind = \"static\""
     };
