@@ -181,6 +181,17 @@ fn two_deformable_bodies_on_three_ranks() {
     assert!((num(&b, "force_balance_error")) < 2e-3, "{b}");
 }
 
+/// The same with one pass: the block's nodes, nobody's slaves, keep a fading share of their
+/// contact stiffness in ADR's density (`OPENED_CONTACT_MEMORY`), each rank for the particles
+/// it owns, and the ranks agree to the bit.
+#[test]
+fn one_pass_between_deformable_bodies_on_three_ranks() {
+    let scene = ball_on_block("dent-one-pass", "two_pass = false");
+    let (a, b) = both(&scene, 3);
+    assert_identical(&a, &b);
+    assert!((num(&b, "force_balance_error")) < 2e-3, "{b}");
+}
+
 /// Explicit dynamics: a sphere dropped on a plane bounces off; the ranks agree on the step at
 /// which it leaves the plane and on the energy balance.
 #[test]
