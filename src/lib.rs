@@ -18,7 +18,7 @@
 //! | studies | [`studies`] | [`demo`](studies::demo), [`scenarios`](studies::scenarios) and [`comparison`](studies::comparison) (the validation scenes against theory), [`validate`](studies::validate), [`sweep`](studies::sweep), [`stability`](studies::stability), [`bench`](studies::bench), [`fracture`](studies::fracture) (the notched beam against LEFM, Kalthoff-Winkler) |
 //!
 //! The body types come before the contact stage and the model after it: a model holds the
-//! contact passes, and a contact pass works on bodies. `src/main.rs` is the command line, a
+//! contact passes, and a contact pass works on bodies. `src/bin/pdcontact/` is the command line, a
 //! thin shell over [`run`], [`convert`] and the studies.
 //!
 //! The later stages read the scene's plain enums ([`Kinematics`](scene::Kinematics),
