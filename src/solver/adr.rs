@@ -34,6 +34,16 @@ const CONTACT_ROW: f64 = 0.683;
 /// that a master node held too heavy lets the slave sink.
 pub const OPENED_CONTACT_MEMORY: f64 = 0.9;
 
+/// The contact part of a body's ADR density: the remembered one where the body keeps
+/// [`OPENED_CONTACT_MEMORY`] (`memory > 0`), else its current contact stiffness.
+fn contact_part<'a>(memory: f64, remembered: &'a [f64], current: &'a [f64]) -> &'a [f64] {
+    if memory > 0.0 {
+        remembered
+    } else {
+        current
+    }
+}
+
 /// A particle without a bond has no stiffness: ADR's fictitious density (Eq. 30) is zero there
 /// and the first step divides by it. Said before the run, with its cause, instead of the NaN
 /// it would end in.
@@ -375,11 +385,7 @@ fn adr_increment(
         for (k, b) in model.bodies.iter().enumerate() {
             if let Body::Deformable(pd) = b {
                 let (dens, prev) = (&density[k], &prev_f[k]);
-                let kc: &[f64] = if memory[k] > 0.0 {
-                    &contact_density[k]
-                } else {
-                    &pd.contact_stiffness
-                };
+                let kc = contact_part(memory[k], &contact_density[k], &pd.contact_stiffness);
                 let blocks = block_sums(
                     pd.owned.clone(),
                     AdrSums::default,
@@ -485,11 +491,7 @@ fn adr_increment(
                 Body::Deformable(pd) => {
                     let dens = &density[k];
                     let pd = &mut **pd;
-                    let kc: &[f64] = if memory[k] > 0.0 {
-                        &contact_density[k]
-                    } else {
-                        &pd.contact_stiffness
-                    };
+                    let kc = contact_part(memory[k], &contact_density[k], &pd.contact_stiffness);
                     let own = pd.owned.clone();
                     pd.v[own.clone()]
                         .par_iter_mut()
