@@ -161,6 +161,19 @@ fn convert_writes_a_case_folder() {
         s["force_balance_error"].as_f64().expect("balance") < 1e-3,
         "{s}"
     );
+    // Run from its own folder with the frames beside the scene (`folder = "."`), as the
+    // demo writes its scene: the output folder is "." and not an empty path.
+    let case = std::fs::read_to_string(dir.join("case.toml")).expect("case.toml");
+    let here = case.replacen("folder = \"out\"", "folder = \".\"", 1);
+    assert_ne!(here, case, "case.toml names its output folder \"out\"");
+    std::fs::write(dir.join("here.toml"), here).expect("writes");
+    let run = exe()
+        .current_dir(&dir)
+        .args(["run", "--quiet", "--json", "here.toml"])
+        .output()
+        .expect("runs");
+    assert_eq!(json_of(&run)["converged"], true);
+    assert!(dir.join("summary.json").exists() && dir.join("run.pvd").exists());
     // And --horizon-factor changes the horizon.
     let v = json_of(
         &exe()

@@ -286,11 +286,17 @@ pub fn run_scene_with(
         .output
         .clone()
         .unwrap_or_else(|| scene.resolve(&scene.output.folder));
-    // "dir/." reads badly in messages: drop "." components.
+    // "dir/." reads badly in messages: drop "." components, but keep "." itself (a scene
+    // run from its own folder with `folder = "."`: an empty path names no folder).
     let folder: PathBuf = folder
         .components()
         .filter(|c| !matches!(c, std::path::Component::CurDir))
         .collect();
+    let folder = if folder.as_os_str().is_empty() {
+        PathBuf::from(".")
+    } else {
+        folder
+    };
     let (mut model, warnings, contact_estimates) = check_scene(scene)?;
     if let Some(comm) = options.comm.clone().filter(|c| c.size() > 1) {
         model.distribute(comm)?;
