@@ -242,6 +242,11 @@ pub(crate) enum Command {
         /// time, instead; writes stability.json and stability.svg.
         #[arg(long)]
         stability: bool,
+        /// The CalculiX cases to draw beside the runs: the JSON that
+        /// `tools/fe_reference.sh --contact-radius 0.3 --json FILE` writes on this machine
+        /// (default: the cases measured in docs/SPEED_ACCURACY.md).
+        #[arg(long, value_name = "FILE")]
+        fe: Option<PathBuf>,
     },
     /// Time the bond-force kernel on the LAMMPS peri/pmb comparison problem: a sphere
     /// (R = 1 m) of simple cubic lattice points, explicit velocity Verlet.

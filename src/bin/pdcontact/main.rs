@@ -335,6 +335,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             json,
             quiet,
             stability,
+            fe,
         } => {
             if stability {
                 let runs = pdcontact::studies::stability::run_stability(&output, quiet)?;
@@ -343,10 +344,15 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             }
             // One problem and one set so far: clap has refused any other.
             let (SweepProblem::Sphere, SweepSet::Hertz) = (case, set);
+            let fe = match &fe {
+                Some(path) => pdcontact::studies::sweep::read_fe_points(path)?,
+                None => pdcontact::studies::sweep::stored_fe_points(),
+            };
             let runs = pdcontact::studies::sweep::run_sweep(
                 pdcontact::studies::sweep::sphere_grid(),
                 &output,
                 quiet,
+                &fe,
             )?;
             print_report(json, &runs, || pdcontact::studies::sweep::table(&runs));
             Ok(Outcome::Done)
