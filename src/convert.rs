@@ -1,7 +1,7 @@
 //! `pdcontact convert`: a mesh to a PD case folder (`case.toml`, `particles.vtu`,
 //! `segments.vtu`) and a JSON summary.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use pdcontact_importers::{has_splittable, read_path, ElementKind, Format, Mesh, SetKind};
@@ -16,7 +16,7 @@ use crate::contact::estimate::{
 use crate::contact::{default_radius, hertz_stiffness, ContactLaw, WINDOW};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
-use crate::output::vtk::{write_atomically, write_vtu, CellSpec, Field};
+use crate::output::vtk::{write_keeping_edits, write_vtu, CellSpec, Field};
 use crate::scene::PenaltyLaw;
 
 /// Seconds spent per stage.
@@ -177,7 +177,7 @@ pub fn convert(
     std::fs::create_dir_all(out).map_err(|e| Error::output(out, e))?;
     let t = Instant::now();
     let skeleton = SkeletonLoad::choose(&case);
-    write_case_files_with(&case, mesh_path, out, &skeleton, spacing)?;
+    let kept = write_case_files_with(&case, mesh_path, out, &skeleton, spacing)?;
     let seconds = ConvertSeconds {
         import,
         discretize: case.times.discretize,
@@ -188,7 +188,14 @@ pub fn convert(
         write: t.elapsed().as_secs_f64(),
         total: start.elapsed().as_secs_f64(),
     };
-    let summary = ConvertSummary::of(&case, &skeleton, seconds);
+    let mut summary = ConvertSummary::of(&case, &skeleton, seconds);
+    if let Some(kept) = kept {
+        summary.warnings.push(format!(
+            "{} differed from the case this convert writes (edited?): it is kept as {}",
+            out.join("case.toml").display(),
+            kept.display()
+        ));
+    }
     Ok((case, summary))
 }
 
@@ -339,20 +346,21 @@ fn plane_size(case: &PdCase) -> f64 {
 /// Writes `particles.vtu`, `segments.vtu` and `case.toml` (with [`SkeletonLoad::choose`]'s
 /// load).
 pub fn write_case_files(case: &PdCase, mesh_path: &Path, out: &Path) -> Result<()> {
-    write_case_files_with(case, mesh_path, out, &SkeletonLoad::choose(case), None)
+    write_case_files_with(case, mesh_path, out, &SkeletonLoad::choose(case), None).map(|_| ())
 }
 
 /// Writes `particles.vtu`, `segments.vtu` and `case.toml` with the skeleton's load; `spacing`
 /// is the spacing given to `convert` (`--spacing`), written as the body's; without it the
 /// case leaves the spacing to `run`, which finds the same one from the mesh and, with a
-/// `refine` added, from the refined mesh.
+/// `refine` added, from the refined mesh. A `case.toml` already there that differs (edited)
+/// is kept under another name, returned.
 pub fn write_case_files_with(
     case: &PdCase,
     mesh_path: &Path,
     out: &Path,
     skeleton: &SkeletonLoad,
     spacing: Option<f64>,
-) -> Result<()> {
+) -> Result<Option<PathBuf>> {
     let p = &case.particles;
     let mesh = &case.mesh;
     write_vtu(
@@ -397,8 +405,7 @@ pub fn write_case_files_with(
         ],
     )?;
     let toml = case_toml(case, mesh_path, out, skeleton, spacing);
-    let path = out.join("case.toml");
-    write_atomically(&path, |w| std::io::Write::write_all(w, toml.as_bytes()))
+    write_keeping_edits(&out.join("case.toml"), &toml)
 }
 
 /// The scene skeleton: this body pressed by a load onto a rigid plane just below it.
@@ -486,7 +493,15 @@ nearest = [{psx}, {pcy}, {pcz}]   # off the axis, held across it: no spinning ab
 fix = ["y"]
 "#,
         mesh_name = mesh_path.display(),
-        case_path = out.join("case.toml").display(),
+        // Quoted where the shell would split it, so that the line can be pasted.
+        case_path = {
+            let p = out.join("case.toml").display().to_string();
+            if p.contains(char::is_whitespace) {
+                format!("\"{p}\"")
+            } else {
+                p
+            }
+        },
         // One Δ: the spacing `run` finds from the mesh is the one this case was built with,
         // so the key stays a comment unless it was given; written, it would outlive a
         // `refine = 1` that halves the particles' spacing and double the horizon in spacings.
@@ -530,7 +545,10 @@ fix = ["y"]
         ptz = pin(hi[2]),
         psx = pin(centre[0] + 0.25 * (hi[0] - lo[0])),
         pz = lo[2],
-        fz = -skeleton.force,
+        // Six significant digits: 4.8e6, not the 4.799999999999983e6 of the sum it came from.
+        fz = format!("{:.5e}", -skeleton.force)
+            .parse::<f64>()
+            .unwrap_or(-skeleton.force),
         reason = skeleton.reason,
         penalty = skeleton.penalty_radius.map_or(String::new(), |r| format!(
             "radius = {r:e}     # penalty R of K = 4E*√R/3: a particle at the expected peak sinks at most {:.1} % of the contact's depth\n",

@@ -174,6 +174,30 @@ fn convert_writes_a_case_folder() {
         .expect("runs");
     assert_eq!(json_of(&run)["converged"], true);
     assert!(dir.join("summary.json").exists() && dir.join("run.pvd").exists());
+    // Converting again over a case.toml the user edited keeps the edit under another name.
+    std::fs::write(
+        dir.join("case.toml"),
+        case.replace("youngs_modulus = 1e9", "youngs_modulus = 3e9"),
+    )
+    .expect("writes");
+    let again = exe()
+        .args(["convert", "-o"])
+        .arg(&dir)
+        .arg(repo("meshes/sphere_r1_d012.msh"))
+        .output()
+        .expect("runs");
+    assert!(again.status.success());
+    let edited = std::fs::read_to_string(dir.join("case.toml.edited")).expect("the edit is kept");
+    assert!(edited.contains("youngs_modulus = 3e9"));
+    assert_eq!(
+        std::fs::read_to_string(dir.join("case.toml")).expect("case.toml"),
+        case
+    );
+    assert!(
+        String::from_utf8_lossy(&again.stderr).contains("kept as"),
+        "{}",
+        String::from_utf8_lossy(&again.stderr)
+    );
     // And --horizon-factor changes the horizon.
     let v = json_of(
         &exe()

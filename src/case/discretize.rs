@@ -73,9 +73,17 @@ impl Discretization {
 pub fn discretize(mesh: &Mesh, spacing: Option<f64>) -> Result<Discretization> {
     let solids: Vec<ElementRef<'_>> = mesh.solids().collect();
     if solids.is_empty() {
-        return Err(Error::input(
-            "the mesh has no 3D solid elements: nothing to turn into particles",
-        ));
+        // The reader's warnings say why, where they know (gmsh's physical groups).
+        let why = match mesh.warnings.iter().find(|w| w.contains("no 3D solid")) {
+            Some(w) => format!(
+                ": {}",
+                w.split_once("): ").map_or(w.as_str(), |(_, why)| why)
+            ),
+            None => String::new(),
+        };
+        return Err(Error::input(format!(
+            "the mesh has no 3D solid elements: nothing to turn into particles{why}"
+        )));
     }
     let mut node_volume = vec![0.0f64; mesh.node_count()];
     let mut node_angle = vec![0.0f64; mesh.node_count()];

@@ -347,6 +347,32 @@ pub fn write_atomically(
     })
 }
 
+/// Writes `text` to `path` as [`write_atomically`] does; where `path` already holds something
+/// else (a scene the user edited), that is first renamed to `NAME.edited` (or `NAME.edited.N`,
+/// the first name free), never lost. Returns the name it was kept under.
+pub fn write_keeping_edits(path: &Path, text: &str) -> Result<Option<PathBuf>> {
+    let kept = match std::fs::read(path) {
+        Ok(old) if old != text.as_bytes() => {
+            let name = path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let free = (0..)
+                .map(|k| match k {
+                    0 => path.with_file_name(format!("{name}.edited")),
+                    k => path.with_file_name(format!("{name}.edited.{k}")),
+                })
+                .find(|p| !p.exists())
+                .expect("some name is free");
+            std::fs::rename(path, &free).map_err(|e| Error::output(&free, e))?;
+            Some(free)
+        }
+        _ => None,
+    };
+    write_atomically(path, |w| w.write_all(text.as_bytes()))?;
+    Ok(kept)
+}
+
 fn temporary_name(path: &Path) -> PathBuf {
     let name = path
         .file_name()

@@ -252,10 +252,21 @@ impl Scene {
             check_shape(b, &err)?;
         }
         let body = |name: &str, needle: &str| -> Result<&BodySpec> {
-            self.bodies
-                .iter()
-                .find(|b| b.name == name)
-                .ok_or_else(|| err(needle, format!("no body is named \"{}\"", excerpt(name))))
+            self.bodies.iter().find(|b| b.name == name).ok_or_else(|| {
+                let names: Vec<String> = self
+                    .bodies
+                    .iter()
+                    .map(|b| format!("\"{}\"", excerpt(&b.name)))
+                    .collect();
+                err(
+                    needle,
+                    format!(
+                        "no body is named \"{}\" (the scene's bodies: {})",
+                        excerpt(name),
+                        names.join(", ")
+                    ),
+                )
+            })
         };
         for (k, l) in self.loads.iter().enumerate() {
             body(&l.body, &format!("body = \"{}\"", l.body))?;

@@ -553,7 +553,7 @@ impl Scene {
     pub fn parse(text: &str, source: &str, base: &Path) -> Result<Scene> {
         let mut scene: Scene = toml::from_str(text).map_err(|e| {
             let (line, col) = e.span().map(|s| line_col(text, s.start)).unwrap_or((0, 0));
-            let msg = short_message(&e.message().replace('\n', " "));
+            let msg = short_message(&plain_message(&e.message().replace('\n', " ")));
             Error::input(format!("{source}:{line}:{col}: {msg}"))
         })?;
         scene.base = base.to_path_buf();
@@ -629,6 +629,45 @@ pub fn num(v: f64) -> String {
 
 /// A parse error's message with every long word cut to an excerpt (toml repeats a bad value,
 /// however long) and the whole held to a few lines.
+/// The TOML reader's words for a type (Rust's `f64`, `usize`, "a sequence") in a user's, and
+/// what a missing `[solver]` means.
+fn plain_message(msg: &str) -> String {
+    const WORDS: [(&str, &str); 9] = [
+        (
+            "expected f64",
+            "expected a number (in SI units, without a unit: 1e9, not \"1 GPa\")",
+        ),
+        ("expected f32", "expected a number"),
+        ("expected usize", "expected a whole number, 0 or more"),
+        ("expected u64", "expected a whole number, 0 or more"),
+        ("expected u32", "expected a whole number, 0 or more"),
+        ("expected u8", "expected a whole number, 0 or more"),
+        ("expected i64", "expected a whole number"),
+        (
+            "expected a sequence",
+            "expected an array, like [0.0, 0.0, -1.0]",
+        ),
+        (
+            "missing field `solver`",
+            "missing the [solver] table: a scene says how it is solved (kind = \"adr\", \"static\" or \"explicit\"; docs/guide/scene.md)",
+        ),
+    ];
+    let mut out = msg.to_string();
+    for (rust, user) in WORDS {
+        // Whole words only: "expected u8" is not the start of "expected u80".
+        if let Some(at) = out.find(rust) {
+            let end = at + rust.len();
+            if !out[end..].starts_with(|c: char| c.is_alphanumeric()) {
+                out.replace_range(at..end, user);
+            }
+        }
+    }
+    if out.contains("invalid basic string") {
+        out.push_str(" (a string opened with \" is not closed on its line)");
+    }
+    out
+}
+
 fn short_message(msg: &str) -> String {
     let words: Vec<String> = msg
         .split(' ')
@@ -786,6 +825,21 @@ master = "plane"
         let bad = GOOD.replace("youngs_modulus = 1e9", "youngs_modulus = \"stiff\"");
         let e = error_of(&bad);
         assert!(e.starts_with("scene.toml:9:"), "{e}");
+        // In a user's words, not Rust's: what was found and what was expected.
+        assert!(
+            e.contains("\"stiff\"") && e.contains("expected a number"),
+            "{e}"
+        );
+        let e = error_of(&GOOD.replace("kind = \"adr\"", "kind = \"adr\"\nmax_iterations = -1"));
+        assert!(
+            e.contains("-1") && e.contains("a whole number, 0 or more"),
+            "{e}"
+        );
+        assert!(!e.contains("usize"), "{e}");
+        let e = error_of(&GOOD.replace("force = [0.0, 0.0, -1e6]", "force = \"-1 MN\""));
+        assert!(e.contains("expected an array"), "{e}");
+        let e = error_of(&GOOD.replace("[solver]\nkind = \"adr\"", ""));
+        assert!(e.contains("[solver] table"), "{e}");
     }
 
     #[test]
@@ -817,6 +871,7 @@ master = "plane"
         );
         let e = error_of(&GOOD.replace("master = \"plane\"", "master = \"floor\""));
         assert!(e.contains("no body is named \"floor\""), "{e}");
+        assert!(e.contains("the scene's bodies: \"ball\", \"plane\""), "{e}");
     }
 
     #[test]

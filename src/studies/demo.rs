@@ -17,7 +17,7 @@ use crate::error::{Error, Result};
 use crate::output::analysis::{
     contact_patch, e_star_rigid, elliptic_accuracy, hertz_sphere, Accuracy,
 };
-use crate::output::vtk::write_atomically;
+use crate::output::vtk::{write_atomically, write_keeping_edits};
 use crate::run::{run_scene, RunOptions, RunSummary};
 use crate::scene::Scene;
 
@@ -152,10 +152,15 @@ pub fn run_demo(folder: &Path, options: &RunOptions) -> Result<DemoReport> {
     let mesh_path = folder.join(DEMO_MESH_NAME);
     write_atomically(&mesh_path, |w| std::io::Write::write_all(w, DEMO_MESH))?;
     let scene_path: PathBuf = folder.join("scene.toml");
-    let text = scene_text();
-    write_atomically(&scene_path, |w| {
-        std::io::Write::write_all(w, text.as_bytes())
-    })?;
+    if let Some(kept) = write_keeping_edits(&scene_path, &scene_text())? {
+        if !options.quiet {
+            eprintln!(
+                "warning: {} differed from the demo's scene (edited?): it is kept as {}",
+                scene_path.display(),
+                kept.display()
+            );
+        }
+    }
     let scene = Scene::load(&scene_path)?;
     let (model, summary) = run_scene(&scene, options)?;
     let (a, p0) = hertz_sphere(LOAD, RADIUS, e_star_rigid(YOUNGS, POISSON));

@@ -615,6 +615,16 @@ impl<'a> Ctx<'a> {
                 elements: Some(elements),
             });
         }
+        if !mesh.element_kinds.iter().any(|k| k.is_solid()) {
+            let lower = mesh.element_kinds.len();
+            mesh.warnings.push(if mesh.sets.is_empty() {
+                format!("no 3D solid elements ({lower} of lower dimension): mesh the volume (gmsh -3)")
+            } else {
+                format!(
+                    "no 3D solid elements ({lower} of lower dimension, in physical groups): gmsh saves only the elements of physical groups once any is defined, so a Physical Surface without a Physical Volume leaves the volume out; add a Physical Volume, or set Mesh.SaveAll = 1"
+                )
+            });
+        }
         mesh
     }
 }

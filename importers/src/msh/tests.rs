@@ -911,3 +911,25 @@ fn mesh_repeated_before_appended_view_data() {
     let e = err(format!("{MSH41}$MeshFormat\n2.2 0 8\n$EndMeshFormat\n").as_bytes());
     assert!(e.to_string().contains("version 2"), "{e}");
 }
+
+#[test]
+fn surface_groups_without_a_volume_say_why_the_volume_is_missing() {
+    // What gmsh saves for a meshed solid with a Physical Surface and no Physical Volume: the
+    // surface's triangles only.
+    let text = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n2 1 \"contact\"\n\
+                $EndPhysicalNames\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n\
+                $Elements\n2\n1 2 2 1 1 1 2 3\n2 2 2 1 1 1 2 4\n$EndElements\n";
+    let m = ok(text.as_bytes());
+    let w = m
+        .warnings
+        .iter()
+        .find(|w| w.contains("no 3D solid elements"))
+        .unwrap_or_else(|| panic!("no warning in {:?}", m.warnings));
+    assert!(
+        w.contains("Physical Volume") && w.contains("Mesh.SaveAll"),
+        "{w}"
+    );
+    // A solid mesh has no such warning.
+    let m = ok(MSH22.as_bytes());
+    assert!(!m.warnings.iter().any(|w| w.contains("no 3D solid")));
+}

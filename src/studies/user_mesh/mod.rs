@@ -495,7 +495,10 @@ pub fn validate_mesh(
         None
     };
     let mesh = crate::case::refine(body.second_order.apply(mesh), body.refine);
-    let particles = discretize(&mesh, None)?;
+    let particles = discretize(&mesh, None).map_err(|e| match e {
+        Error::Input(msg) => Error::input(format!("{}: {msg}", path.display())),
+        other => other,
+    })?;
     let spacing = particles.spacing;
     let shape = measure(&mesh, path, problem, 1e-6 * spacing)?;
     drop(mesh);
