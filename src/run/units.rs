@@ -12,7 +12,7 @@ use super::checks::short;
 
 /// A strain `p0 (1 − ν²)/E` beyond this is no small-strain contact: a slip of units, or a load far
 /// beyond what the body's stiffness carries.
-pub const STRAIN_LIMIT: f64 = 0.1;
+pub use crate::contact::estimate::STRAIN_LIMIT;
 
 /// A strain `p0 (1 − ν²)/E` beyond this is no material's: the units slipped.
 const UNIT_SLIP_STRAIN: f64 = 1.0;
@@ -103,7 +103,7 @@ pub(super) fn scale_warnings(
             ));
         } else {
             warnings.push(format!(
-                "{}: {what}, where Hertz's theory and small kinematics hold to about {:.0} %; if not meant, check the units (SI: m, N, Pa, kg/m³): {slip}",
+                "{}: {what}, where Hertz's theory and small kinematics hold to about {:.0} %: fine where a contact that large is meant (as `validate` presses its spheres to a = 0.3 R by default), else check the units (SI: m, N, Pa, kg/m³): {slip}",
                 r.pair(),
                 100.0 * STRAIN_LIMIT
             ));

@@ -84,6 +84,10 @@ pub const UNEVEN_AREA_RATIO: f64 = 10.0;
 pub const GRADED_SPACING_RATIO: f64 = 0.5;
 /// The largest `a/R` of small-strain Hertz contact (METHOD.md §7, the "hertz" set).
 pub const SMALL_STRAIN_RATIO: f64 = 0.15;
+/// A strain `p0 (1 − ν²)/E` beyond this is no small-strain contact (on a sphere, `a/R` of
+/// about 0.16): `run` warns of it ([`crate::run`]'s units check), and `convert`'s load stays
+/// under it.
+pub const STRAIN_LIMIT: f64 = 0.1;
 /// Penetration at the Hertz peak over the contact's depth above which the penalty is said to
 /// be soft. Measured on the whole Hertz sphere (a = 0.3 m, docs/VALIDATION.md, "The penalty"):
 /// at 1.4 % (penalty radius 100 m, tets of a/Δ = 4.6) the contact is 1.5 points wider than with
