@@ -100,8 +100,19 @@ pub fn discretize(mesh: &Mesh, spacing: Option<f64>) -> Result<Discretization> {
         let v = element_volume(e.kind, corners, &mesh.coords);
         let scale = max_edge(e.kind, corners, &mesh.coords).powi(3);
         if v.is_nan() || v <= 1e-10 * scale {
-            return Err(Error::input(format!(
-                "element {} ({}) has {} volume {:.3e}: it is inverted or degenerate",
+            // How many more: every element inverted is a node order of the other handedness,
+            // not a bad element.
+            let inverted = solids
+                .iter()
+                .filter(|e| {
+                    let c = e.corners();
+                    !c.contains(&MISSING_NODE)
+                        && element_volume(e.kind, c, &mesh.coords)
+                            < -1e-10 * max_edge(e.kind, c, &mesh.coords).powi(3)
+                })
+                .count();
+            let first = format!(
+                "element {} ({}) has {} volume {:.3e}",
                 e.id,
                 e.kind.name(),
                 if v.abs() <= 1e-10 * scale {
@@ -110,7 +121,22 @@ pub fn discretize(mesh: &Mesh, spacing: Option<f64>) -> Result<Discretization> {
                     "negative"
                 },
                 v
-            )));
+            );
+            return Err(Error::input(
+                if inverted == solids.len() && solids.len() > 1 {
+                    format!(
+                    "{first}, as do all {} solid elements: their node order is mirrored against the format's (the other handedness, as some tools write it); renumber each element's nodes in the format's order (docs/guide/mesh-files.md) or mirror the mesh",
+                    solids.len()
+                )
+                } else if inverted > 1 {
+                    format!(
+                    "{first}: it is inverted or degenerate ({inverted} of the {} solid elements have a negative volume)",
+                    solids.len()
+                )
+                } else {
+                    format!("{first}: it is inverted or degenerate")
+                },
+            ));
         }
         mesh_volume += v;
         let share = v / corners.len() as f64;
@@ -454,5 +480,21 @@ mod tests {
         m.push_element(42, ElementKind::Hex8, &[0, 3, 2, 1, 4, 7, 6, 5]);
         let err = discretize(&m, None).expect_err("inverted");
         assert!(err.to_string().contains("element 42"), "{err}");
+        // Every element mirrored: the node order's handedness, said as such.
+        let mut shifted = cube_coords();
+        for p in cube_coords() {
+            shifted.push([p[0] + 1.0, p[1], p[2]]);
+        }
+        let mut m = Mesh::new();
+        for (i, p) in shifted.iter().enumerate() {
+            m.push_node(i as u64 + 1, *p);
+        }
+        m.push_element(1, ElementKind::Hex8, &[0, 3, 2, 1, 4, 7, 6, 5]);
+        m.push_element(2, ElementKind::Hex8, &[8, 11, 10, 9, 12, 15, 14, 13]);
+        let err = discretize(&m, None).expect_err("mirrored").to_string();
+        assert!(
+            err.contains("all 2 solid elements") && err.contains("mirrored"),
+            "{err}"
+        );
     }
 }
