@@ -510,6 +510,16 @@ fn scene_mistakes_found_by_the_check_exit_2() {
             "flip it",
         ],
     );
+    // The normal as meant, the plane on the far side of the body: where it would clear it.
+    assert_error(
+        "plane-above",
+        &GOOD.replace("point = [0.0, 0.0, -0.01]", "point = [0.0, 0.0, 1.0]"),
+        "[[contact]]",
+        &[
+            "wrong side of the body",
+            "would clear the body at [0, 0, 0]",
+        ],
+    );
     // Numerical failures before: max_iterations = 0, a symmetry plane listed twice.
     assert_error(
         "zero-iterations",

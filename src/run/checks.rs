@@ -146,11 +146,17 @@ fn check_plane_sides(scene: &Scene, model: &Model) -> Result<()> {
         let x = &pd.case.particles.position;
         let behind = x.iter().filter(|&&q| (q - p).dot(&n) < 0.0).count();
         if 2 * behind > x.len() {
+            // Two mistakes give this: a normal the wrong way, or the plane put on the far side
+            // of the body (or through it). Where the plane would stand clear of the body
+            // under its normal as given.
+            let deepest = x.iter().map(|&q| (q - p).dot(&n)).fold(0.0, f64::min);
+            let centre = corners.iter().fold(Vec3::zeros(), |a, c| a + c) / 4.0;
+            let clear = centre + n * deepest;
             return Err(scene.block_error(
                 "[[contact]]",
                 k,
                 format!(
-                "contact pair \"{}\" / \"{}\": {behind} of {} particles of \"{}\" lie behind the plane \"{}\" (on the side its normal [{}, {}, {}] points away from): the normal must point out of the plane toward the slave; flip it",
+                "contact pair \"{}\" / \"{}\": {behind} of {} particles of \"{}\" lie behind the plane \"{}\" (on the side its normal [{}, {}, {}] points away from): the normal must point out of the plane toward the slave (flip it), or, if the normal is as meant, the plane stands on the wrong side of the body or through it (its point would clear the body at [{}, {}, {}])",
                 c.slave,
                 c.master,
                 x.len(),
@@ -159,6 +165,9 @@ fn check_plane_sides(scene: &Scene, model: &Model) -> Result<()> {
                 num(n.x),
                 num(n.y),
                 num(n.z),
+                num(clear.x),
+                num(clear.y),
+                num(clear.z),
                 ),
             ));
         }
