@@ -234,5 +234,26 @@ fn the_convert_case_runs_held_and_says_how_close_it_came() {
     );
     // 1.1 surface spacings across the contact: far from Hertz, and the line says what to run.
     assert!(line.contains("pdcontact validate --mesh"), "{line}");
+    // The static solver's progress: each Newton iteration with its linear iterations so far.
+    let static_toml = toml.replacen("kind = \"adr\"", "kind = \"static\"", 1);
+    assert_ne!(static_toml, toml);
+    std::fs::write(dir.join("static.toml"), static_toml).unwrap();
+    let run = exe()
+        .arg("run")
+        .arg(dir.join("static.toml"))
+        .args(["-o"])
+        .arg(dir.join("static"))
+        .env("PDCONTACT_PROGRESS_SECONDS", "0")
+        .output()
+        .expect("runs");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    assert!(
+        stderr
+            .lines()
+            .any(|l| l.contains(" s: Newton iteration 2, residual")
+                && l.contains("linear iterations")),
+        "{stderr}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -537,6 +537,9 @@ pub struct RunMonitor {
     /// a plain line every [`plain_progress_every`] instead, from the run's start, the last
     /// line's time and the interval.
     plain: Option<(Instant, Instant, Duration)>,
+    /// The static solver's conjugate-gradient iterations so far: its steps are Newton
+    /// iterations, each shown ([`Monitor::linear_iterations`]).
+    linear: Option<usize>,
 }
 
 /// How often a run whose stderr is not a terminal prints a progress line: every 5 s, or every
@@ -582,6 +585,7 @@ impl RunMonitor {
             stop,
             last_step: (0, 0.0, 0.0),
             plain,
+            linear: None,
         }
     }
 }
@@ -589,9 +593,14 @@ impl RunMonitor {
 impl Monitor for RunMonitor {
     fn step(&mut self, model: &Model, step: usize, time: f64, measure: f64) -> Result<()> {
         self.last_step = (step, time, measure);
-        if step.is_multiple_of(50) {
+        // A Newton iteration costs what tens of ADR iterations do: each is shown.
+        let (word, linear) = match self.linear {
+            Some(n) => ("Newton iteration", format!("  linear iterations {n}")),
+            None => ("step", String::new()),
+        };
+        if self.linear.is_some() || step.is_multiple_of(50) {
             self.bar.set_message(format!(
-                "step {step}  {} {measure:.3e}  contacts {}  Verlet rebuilds {}",
+                "{word} {step}  {} {measure:.3e}{linear}  contacts {}  Verlet rebuilds {}",
                 self.label,
                 model.contact_count(),
                 model.verlet_rebuilds()
@@ -602,9 +611,10 @@ impl Monitor for RunMonitor {
             if last.elapsed() >= *every {
                 *last = Instant::now();
                 eprintln!(
-                    "{:.0} s: step {step}, {} {measure:.3e}, contacts {}",
+                    "{:.0} s: {word} {step}, {} {measure:.3e}{}, contacts {}",
                     start.elapsed().as_secs_f64(),
                     self.label,
+                    linear.replace("  linear", ", linear"),
                     model.contact_count()
                 );
             }
@@ -622,6 +632,10 @@ impl Monitor for RunMonitor {
             Some(f) => f.load_increment(model, factor, iteration),
             None => Ok(()),
         }
+    }
+
+    fn linear_iterations(&mut self, total: usize) {
+        self.linear = Some(total);
     }
 
     fn finish(&mut self, model: &Model, step: usize, time: f64) -> Result<()> {

@@ -265,6 +265,10 @@ impl Monitor for Tee<'_> {
         self.run.load_increment(model, factor, iteration)?;
         self.observer.load_increment(model, factor, iteration)
     }
+    fn linear_iterations(&mut self, total: usize) {
+        self.run.linear_iterations(total);
+        self.observer.linear_iterations(total);
+    }
     fn finish(&mut self, model: &Model, step: usize, time: f64) -> Result<()> {
         self.run.finish(model, step, time)?;
         self.observer.finish(model, step, time)

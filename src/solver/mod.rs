@@ -64,6 +64,10 @@ pub trait Monitor {
     fn load_increment(&mut self, _model: &Model, _factor: f64, _iteration: usize) -> Result<()> {
         Ok(())
     }
+    /// The static solver: called after each Newton iteration's linear solve with the
+    /// conjugate-gradient iterations of the run so far (the next [`Monitor::step`] reports
+    /// the iteration's residual).
+    fn linear_iterations(&mut self, _total: usize) {}
     /// Called once at the end with the last state.
     fn finish(&mut self, model: &Model, step: usize, time: f64) -> Result<()>;
     /// Whether the user asked to stop (Ctrl-C); the solver then writes the last frame and ends.

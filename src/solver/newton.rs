@@ -361,6 +361,7 @@ fn increment(
         .clamp(1e-8, ETA_MAX);
         previous = Some(rel);
         counts.linear += pcg(&mut tangent, model, &rhs, eta, &mut d, &mut work);
+        monitor.linear_iterations(counts.linear);
         let g0 = d.dot(&rhs);
         if !(g0 > 0.0) {
             return Ok(Increment::Failed(format!(
