@@ -393,7 +393,10 @@ fn convert_chooses_a_resolved_load_or_says_how_fine_a_mesh_it_needs() {
         .and_then(|rest| rest.split(']').next())
         .and_then(|v| v.parse().ok())
         .unwrap_or_else(|| panic!("no force line in {toml}"));
-    assert!((written + load).abs() <= 1e-5 * load, "{written} against {load}");
+    assert!(
+        (written + load).abs() <= 1e-5 * load,
+        "{written} against {load}"
+    );
     // The case runs as written and its run says the same of the contact.
     let scene = Scene::load(&dir.join("case.toml")).expect("case.toml loads");
     let r = only(Model::from_scene(&scene).unwrap().contact_resolution());

@@ -136,7 +136,12 @@ fn unknown_keys() {
 #[test]
 fn wrong_types() {
     let text = GOOD.replace("density = 1000.0", "density = \"steel\"");
-    assert_error("type-string", &text, "density", &["string", "expected a number"]);
+    assert_error(
+        "type-string",
+        &text,
+        "density",
+        &["string", "expected a number"],
+    );
     let text = GOOD.replace("max_iterations = 20000", "max_iterations = 2.5");
     assert_error("type-float", &text, "max_iterations", &["float"]);
     let text = GOOD.replace("force = [0.0, 0.0, -1e5]", "force = [0.0, -1e5]");
