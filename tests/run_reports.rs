@@ -194,14 +194,20 @@ fn the_convert_case_runs_held_and_says_how_close_it_came() {
     let toml = std::fs::read_to_string(dir.join("case.toml")).unwrap();
     assert!(toml.contains("\nkinematics = \"small\""), "{toml}");
     assert_eq!(toml.matches("[[constraint]]").count(), 3, "{toml}");
-    let run = exe()
-        .arg("run")
-        .arg(dir.join("case.toml"))
-        .env("PDCONTACT_PROGRESS_SECONDS", "0.2")
-        .output()
-        .expect("runs");
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert!(run.status.success(), "{stderr}");
+    // `run SCENE ARGS` with a progress line at every chance; its stderr, the run converged.
+    let run_logged = |scene: &str, args: &[&str]| {
+        let run = exe()
+            .arg("run")
+            .arg(dir.join(scene))
+            .args(args)
+            .env("PDCONTACT_PROGRESS_SECONDS", "0")
+            .output()
+            .expect("runs");
+        let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
+        assert!(run.status.success(), "{stderr}");
+        stderr
+    };
+    let stderr = run_logged("case.toml", &[]);
     // stderr is a pipe here: plain progress lines, no bar.
     assert!(
         stderr
@@ -238,16 +244,7 @@ fn the_convert_case_runs_held_and_says_how_close_it_came() {
     let static_toml = toml.replacen("kind = \"adr\"", "kind = \"static\"", 1);
     assert_ne!(static_toml, toml);
     std::fs::write(dir.join("static.toml"), static_toml).unwrap();
-    let run = exe()
-        .arg("run")
-        .arg(dir.join("static.toml"))
-        .args(["-o"])
-        .arg(dir.join("static"))
-        .env("PDCONTACT_PROGRESS_SECONDS", "0")
-        .output()
-        .expect("runs");
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert!(run.status.success(), "{stderr}");
+    let stderr = run_logged("static.toml", &["-o", "static"]);
     assert!(
         stderr
             .lines()

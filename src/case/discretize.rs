@@ -73,14 +73,13 @@ impl Discretization {
 pub fn discretize(mesh: &Mesh, spacing: Option<f64>) -> Result<Discretization> {
     let solids: Vec<ElementRef<'_>> = mesh.solids().collect();
     if solids.is_empty() {
-        // The reader's warnings say why, where they know (gmsh's physical groups).
-        let why = match mesh.warnings.iter().find(|w| w.contains("no 3D solid")) {
-            Some(w) => format!(
-                ": {}",
-                w.split_once("): ").map_or(w.as_str(), |(_, why)| why)
-            ),
-            None => String::new(),
-        };
+        // The MSH reader's warning says why, where it knows (gmsh's physical groups).
+        let why = mesh
+            .warnings
+            .iter()
+            .filter(|w| w.starts_with("no 3D solid elements ("))
+            .find_map(|w| w.split_once("): "))
+            .map_or(String::new(), |(_, why)| format!(": {why}"));
         return Err(Error::input(format!(
             "the mesh has no 3D solid elements: nothing to turn into particles{why}"
         )));

@@ -594,14 +594,20 @@ impl Monitor for RunMonitor {
     fn step(&mut self, model: &Model, step: usize, time: f64, measure: f64) -> Result<()> {
         self.last_step = (step, time, measure);
         // A Newton iteration costs what tens of ADR iterations do: each is shown.
-        let (word, linear) = match self.linear {
-            Some(n) => ("Newton iteration", format!("  linear iterations {n}")),
-            None => ("step", String::new()),
+        let word = if self.linear.is_some() {
+            "Newton iteration"
+        } else {
+            "step"
+        };
+        let linear = |sep: &str| {
+            self.linear
+                .map_or(String::new(), |n| format!("{sep}linear iterations {n}"))
         };
         if self.linear.is_some() || step.is_multiple_of(50) {
             self.bar.set_message(format!(
-                "{word} {step}  {} {measure:.3e}{linear}  contacts {}  Verlet rebuilds {}",
+                "{word} {step}  {} {measure:.3e}{}  contacts {}  Verlet rebuilds {}",
                 self.label,
+                linear("  "),
                 model.contact_count(),
                 model.verlet_rebuilds()
             ));
@@ -614,7 +620,7 @@ impl Monitor for RunMonitor {
                     "{:.0} s: {word} {step}, {} {measure:.3e}{}, contacts {}",
                     start.elapsed().as_secs_f64(),
                     self.label,
-                    linear.replace("  linear", ", linear"),
+                    linear(", "),
                     model.contact_count()
                 );
             }
