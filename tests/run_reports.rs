@@ -244,7 +244,8 @@ fn the_convert_case_runs_held_and_says_how_close_it_came() {
     let static_toml = toml.replacen("kind = \"adr\"", "kind = \"static\"", 1);
     assert_ne!(static_toml, toml);
     std::fs::write(dir.join("static.toml"), static_toml).unwrap();
-    let stderr = run_logged("static.toml", &["-o", "static"]);
+    let out = dir.join("static");
+    let stderr = run_logged("static.toml", &["-o", out.to_str().expect("utf-8")]);
     assert!(
         stderr
             .lines()
