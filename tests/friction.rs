@@ -60,6 +60,7 @@ fn mindlin(spacing: f64, steps: usize) -> MindlinScene {
         push: 0.0,
         steps,
         rigid_flat: false,
+        static_solver: false,
     };
     s.push = 1.5 * s.full_slip_travel();
     s
@@ -99,6 +100,32 @@ fn a_pushed_sphere_sticks_within_mindlins_radius() {
             r.to_text()
         );
     }
+}
+
+/// The static solver walks the same load path to the same equilibria as ADR: the holder's
+/// prescribed displacements increment by increment, the stick points committed at each
+/// increment's end. Every point of the push (Q/(μP), stick radius, shear traction, travel)
+/// within the two solvers' tolerance of each other, in a tenth of ADR's iterations.
+#[test]
+fn the_static_solver_pushes_as_adr_does() {
+    let adr = mindlin(0.05, 3);
+    let newton = MindlinScene {
+        static_solver: true,
+        ..adr.clone()
+    };
+    let a = run_mindlin(&adr, &temp_dir("mindlin-adr"), true).expect("ADR runs");
+    let s = run_mindlin(&newton, &temp_dir("mindlin-static"), true).expect("static runs");
+    let text = format!("{}{}", a.to_text(), s.to_text());
+    assert_eq!(s.solver, "static");
+    assert_eq!(a.points.len(), s.points.len(), "{text}");
+    assert!(a.points.len() >= 3, "{text}");
+    for (p, q) in a.points.iter().zip(&s.points) {
+        assert!((p.ratio - q.ratio).abs() < 1e-3, "{text}");
+        assert!((p.stick_ratio - q.stick_ratio).abs() < 1e-3, "{text}");
+        assert!((p.shear_mre - q.shear_mre).abs() < 1e-3, "{text}");
+        assert!((q.slip_travel / p.slip_travel - 1.0).abs() < 1e-2, "{text}");
+    }
+    assert!(10 * s.iterations < a.iterations, "{text}");
 }
 
 /// The same bits on one and on two threads: the stick points are each slave's own.

@@ -388,6 +388,7 @@ fn friction_on_three_ranks() {
         push: 0.0,
         steps: 2,
         rigid_flat: false,
+        static_solver: false,
     };
     scene.push = 1.5 * scene.full_slip_travel();
     let path = dir.join("mindlin.toml");

@@ -688,7 +688,12 @@ fn friction_and_load_path_errors() {
         &["load_steps", "frictionless"],
     );
     let text = with("friction = 0.3").replace("kind = \"adr\"", "kind = \"static\"");
-    assert_error("static-friction", &text, "[[contact]]", &["static", "adr"]);
+    assert_error(
+        "static-one-step-friction",
+        &text,
+        "[[contact]]",
+        &["kind = \"static\"", "load_steps"],
+    );
     let ramped = |ramp: &str| {
         GOOD.replace(
             "force = [0.0, 0.0, -1e5]",

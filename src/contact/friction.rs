@@ -37,6 +37,10 @@ pub struct Tangential {
     /// Where a slipping slave's stick point moves: `limit / k_t` behind the contact point,
     /// against the slip (`None` while it sticks: the stick point stays).
     pub moved_to: Option<Vec3>,
+    /// The force's stiffness across the slip in the tangent plane, N/m: `k_t` while it
+    /// sticks, `k_t μ F_n / |k_t g_t|` while it slips (the slip cone's radius over the trial
+    /// force's: turning the slip turns the force, it does not grow it).
+    pub stiffness: f64,
 }
 
 /// The return mapping of Coulomb's law with a tangential penalty `k_t` (N/m): the slave's
@@ -64,6 +68,7 @@ pub fn return_map(
             force: trial,
             slip: false,
             moved_to: None,
+            stiffness: k_t,
         };
     }
     let dir = g / g.norm();
@@ -71,6 +76,7 @@ pub fn return_map(
         force: dir * -limit,
         slip: true,
         moved_to: Some(contact - dir * (limit / k_t)),
+        stiffness: k_t * limit / size,
     }
 }
 
@@ -137,6 +143,13 @@ impl ContactPass {
         );
         point.force += t.force;
         point.stick = Some(!t.slip);
+        // A slave without a committed stick point works from where it touches now: its
+        // force is nil whatever it does until the increment ends, and so is its stiffness.
+        point.shear_stiffness = if self.sticks[k].is_some() {
+            t.stiffness
+        } else {
+            0.0
+        };
         point.tangential_energy = 0.5 * t.force.norm_squared() / k_t;
         let Some(x) = t.moved_to else {
             return stuck;
@@ -194,12 +207,18 @@ mod tests {
         let t = return_map(0.5, 4000.0, 1e6, n, Vec3::new(1e-3, 0.0, -2e-3), anchor);
         assert!(!t.slip && t.moved_to.is_none());
         assert!((t.force - Vec3::new(-1000.0, 0.0, 0.0)).norm() < 1e-9);
+        assert_eq!(t.stiffness, 1e6);
         // 3 mm asks for 3000 N: slips at 2000 N, against the slip; the stick point follows
         // to 2 mm behind the contact point, where the penalty gives exactly the limit.
         let c = Vec3::new(0.0, 3e-3, 0.0);
         let t = return_map(0.5, 4000.0, 1e6, n, c, anchor);
         assert!(t.slip);
         assert!((t.force - Vec3::new(0.0, -2000.0, 0.0)).norm() < 1e-9);
+        // Across the slip the force turns at the cone's radius: 2000 N over 3 mm.
+        assert!((t.stiffness - 2000.0 / 3e-3).abs() < 1e-6);
+        let across = Vec3::new(1e-6, 3e-3, 0.0);
+        let turned = return_map(0.5, 4000.0, 1e6, n, across, anchor).force - t.force;
+        assert!((turned.x / -1e-6 - t.stiffness).abs() < 1e-3 * t.stiffness);
         let moved = t.moved_to.expect("moved");
         assert!((moved - Vec3::new(0.0, 1e-3, 0.0)).norm() < 1e-15);
         let again = return_map(0.5, 4000.0, 1e6, n, c, moved);

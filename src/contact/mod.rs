@@ -194,6 +194,10 @@ pub struct ContactPoint {
     pub stick: Option<bool>,
     /// With friction: the energy the tangential penalty holds, `|F_t|² / (2 k_t)`, J.
     pub tangential_energy: f64,
+    /// With friction: the tangential force's stiffness across the slip in the master's
+    /// tangent plane, N/m ([`friction::Tangential::stiffness`]; the static solver's
+    /// tangent); 0 without.
+    pub shear_stiffness: f64,
     /// With friction: the work slip has dissipated since the committed stick point,
     /// `μ F_n` times the distance the stick point moved, J.
     pub slip_work: f64,
@@ -489,6 +493,7 @@ impl ContactPass {
                 normal_force: f,
                 stick: None,
                 tangential_energy: 0.0,
+                shear_stiffness: 0.0,
                 slip_work: 0.0,
             };
             let anchor = (self.friction > 0.0).then(|| {

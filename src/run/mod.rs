@@ -265,6 +265,10 @@ impl Monitor for Tee<'_> {
         self.run.load_increment(model, factor, iteration)?;
         self.observer.load_increment(model, factor, iteration)
     }
+    fn increment_done(&mut self, model: &Model, factor: f64, iteration: usize) -> Result<()> {
+        self.run.increment_done(model, factor, iteration)?;
+        self.observer.increment_done(model, factor, iteration)
+    }
     fn linear_iterations(&mut self, total: usize) {
         self.run.linear_iterations(total);
         self.observer.linear_iterations(total);

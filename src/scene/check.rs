@@ -243,8 +243,8 @@ impl Scene {
                     Motion::Displacement if b.displacement.is_none() => {
                         return Err(err(&key, format!("rigid body \"{}\": motion = \"displacement\" needs displacement = [dx, dy, dz]", b.name)))
                     }
-                    Motion::Displacement if self.solver.kind != SolverKind::Adr => {
-                        return Err(err("displacement =", format!("rigid body \"{}\": motion = \"displacement\" is displacement control in a quasi-static run, in the solver's load_steps increments: use kind = \"adr\" in [solver] (an explicit run drives a body with motion = \"velocity\")", b.name)))
+                    Motion::Displacement if !self.solver.kind.is_quasi_static() => {
+                        return Err(err("displacement =", format!("rigid body \"{}\": motion = \"displacement\" is displacement control in a quasi-static run, in the solver's load_steps increments: use kind = \"adr\" or \"static\" in [solver] (an explicit run drives a body with motion = \"velocity\")", b.name)))
                     }
                     _ => {}
                 }

@@ -10,10 +10,10 @@ pub const MAX_FRICTION: f64 = 10.0;
 
 impl Scene {
     /// Every `ramp` within [0, 1] and rising; ramps and prescribed displacements only where a
-    /// load path is walked (ADR); `friction` finite, non-negative, on a point-to-surface pair
-    /// solved by ADR or explicit dynamics.
+    /// load path is walked (ADR, the static solver); `friction` finite, non-negative, on a
+    /// point-to-surface pair.
     pub(super) fn check_path(&self) -> Result<()> {
-        let quasi_static = self.solver.kind == SolverKind::Adr;
+        let quasi_static = matches!(self.solver.kind, SolverKind::Adr | SolverKind::Static);
         let solver = match self.solver.kind {
             SolverKind::Adr => "adr",
             SolverKind::Static => "static",
@@ -28,14 +28,9 @@ impl Scene {
             )
         };
         let not_here = |what: &str| {
-            match self.solver.kind {
-            SolverKind::Explicit => format!(
-                "{what} shapes the load path of a quasi-static run that ADR walks in load_steps; kind = \"{solver}\" applies every load at once: use kind = \"adr\""
-            ),
-            _ => format!(
-                "{what} shapes the load path of a quasi-static run that ADR walks in load_steps; the static solver does not walk such a path yet: use kind = \"adr\""
-            ),
-        }
+            format!(
+                "{what} shapes the load path of a quasi-static run that ADR and the static solver walk in load_steps; kind = \"{solver}\" applies every load at once: use kind = \"adr\" or \"static\""
+            )
         };
         for (k, l) in self.loads.iter().enumerate() {
             let Some(r) = l.ramp else { continue };
@@ -121,7 +116,7 @@ impl Scene {
         if one_step && ramped {
             let (l, col) = super::locate(&self.text, "ramp");
             return Err(crate::error::Error::input(format!(
-                "{}:{l}:{col}: a ramp shapes the load path that ADR walks in load_steps increments, and load_steps is 1: the whole path is one step; give load_steps = 2 or more under [solver]",
+                "{}:{l}:{col}: a ramp shapes the load path that ADR and the static solver walk in load_steps increments, and load_steps is 1: the whole path is one step; give load_steps = 2 or more under [solver]",
                 self.source
             )));
         }
@@ -137,9 +132,7 @@ impl Scene {
             } else if mu > 0.0 && c.method == ContactMethod::ShortRange {
                 "friction needs the contact point on the master's surface that the point-to-surface method finds; the short-range method has none: use method = \"point-to-surface\"".to_string()
             } else if mu > 0.0 && one_step {
-                "friction in ADR works from the stick points each load increment ends with, and with load_steps = 1 no slave has one before the run ends: the run would be frictionless; give load_steps = 2 or more under [solver] (the normal load in the first ones)".to_string()
-            } else if mu > 0.0 && self.solver.kind == SolverKind::Static {
-                "friction is not in the static solver (its tangent has no stick-slip part yet): use kind = \"adr\", which walks the load path in load_steps, or \"explicit\"".to_string()
+                format!("friction in a quasi-static run (kind = \"{solver}\") works from the stick points each load increment ends with, and with load_steps = 1 no slave has one before the run ends: the run would be frictionless; give load_steps = 2 or more under [solver] (the normal load in the first ones)")
             } else {
                 continue;
             };

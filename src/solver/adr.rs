@@ -7,7 +7,8 @@ use rayon::prelude::*;
 
 use super::unheld::{PastCheck, EVERY};
 use super::{
-    applied_norm, check_missed, free_factor, full_loads, scale_loads, Increment, Monitor, RunStats,
+    applied_norm, check_missed, displacement_reference, driven, free_factor, full_loads,
+    record_increment, scale_loads, Monitor, RunStats,
 };
 use crate::body::Body;
 use crate::error::{Error, Result};
@@ -155,18 +156,7 @@ pub fn adr(
 ) -> Result<RunStats> {
     // Without a load or a moving body the equilibrium is the reference state: there is
     // nothing to iterate for, and no force to measure the residual against.
-    let driven = model.bodies.iter().any(|b| match b {
-        Body::Rigid(rb) => match rb.motion {
-            Motion::Velocity => rb.velocity.norm() > 0.0,
-            Motion::Displacement => rb.displacement.norm() > 0.0,
-            Motion::Fixed | Motion::Free => false,
-        },
-        Body::Deformable(_) => false,
-    }) || model
-        .path
-        .prescribed
-        .iter()
-        .any(|p| p.displacement.norm() > 0.0);
+    let driven = driven(model);
     if !driven && !(applied_norm(model) > 0.0) {
         return Err(Error::input(
             "nothing loads the model: an ADR (static) run needs a [[load]] with a non-zero force on a body part that is free to move, a [[constraint]] with a non-zero displacement, or a rigid body with motion = \"velocity\" or \"displacement\"".to_string(),
@@ -205,36 +195,12 @@ pub fn adr(
         if !stats.converged || stats.interrupted {
             break;
         }
+        model.gather();
+        monitor.increment_done(model, scale, n)?;
     }
     model.gather();
     monitor.finish(model, n, n as f64)?;
     Ok(stats)
-}
-
-/// The end of an increment under displacement control, for the load-displacement curve.
-fn record_increment(model: &Model, factor: f64, iteration: usize, stats: &mut RunStats) {
-    let Some(rb) = model.bodies.iter().find_map(|b| match b {
-        Body::Rigid(rb) if rb.motion == Motion::Displacement => Some(rb),
-        _ => None,
-    }) else {
-        return;
-    };
-    let broken_bonds = model
-        .bodies
-        .iter()
-        .filter_map(Body::as_pd)
-        .filter_map(|pd| pd.fracture.as_ref())
-        .map(|f| f.broken)
-        .sum();
-    stats.increments.push(Increment {
-        factor,
-        body: rb.name.clone(),
-        displacement: rb.translation.into(),
-        reaction: rb.contact_force.into(),
-        converged: stats.converged,
-        iteration,
-        broken_bonds,
-    });
 }
 
 /// One ADR relaxation from the current state to equilibrium under the current loads (Eqs.
@@ -254,33 +220,7 @@ fn adr_increment(
     let reference = if reference > 0.0 {
         reference
     } else {
-        // Displacement-driven scenes: measure against the contact forces (in a decomposed
-        // run, every particle's, gathered first).
-        model.gather();
-        let contact: f64 = model
-            .bodies
-            .iter()
-            .filter_map(Body::as_pd)
-            .flat_map(|pd| pd.contact_force.iter())
-            .map(|f| f.norm_squared())
-            .sum();
-        // A prescribed displacement drives through the bonds of the particles it moves:
-        // their held components' forces are its reactions.
-        let mut held = 0.0;
-        for p in &model.path.prescribed {
-            let Some(pd) = model.bodies[p.body].as_pd() else {
-                continue;
-            };
-            for &i in &p.particles {
-                let f = pd.force[i as usize];
-                for a in 0..3 {
-                    if p.mask & (1 << a) != 0 {
-                        held += f[a] * f[a];
-                    }
-                }
-            }
-        }
-        (contact + held).sqrt().max(f64::MIN_POSITIVE)
+        displacement_reference(model)
     };
     let nb = model.bodies.len();
     let mut prev_f: Vec<Vec<Vec3>> = vec![Vec::new(); nb];

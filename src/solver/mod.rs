@@ -64,6 +64,12 @@ pub trait Monitor {
     fn load_increment(&mut self, _model: &Model, _factor: f64, _iteration: usize) -> Result<()> {
         Ok(())
     }
+    /// ADR and the static solver: called after each load increment that reached
+    /// equilibrium, with the load factor it reached and the last iteration, in that
+    /// equilibrium (a decomposed model gathered).
+    fn increment_done(&mut self, _model: &Model, _factor: f64, _iteration: usize) -> Result<()> {
+        Ok(())
+    }
     /// The static solver: called after each Newton iteration's linear solve with the
     /// conjugate-gradient iterations of the run so far (the next [`Monitor::step`] reports
     /// the iteration's residual).
@@ -384,4 +390,78 @@ pub(super) fn check_missed(model: &Model, step: usize, what: &str, dt: Option<f6
         )));
     }
     Ok(())
+}
+
+/// Whether something other than a load drives the model: a rigid body moved at a velocity
+/// or to a displacement, or a prescribed displacement.
+pub(super) fn driven(model: &Model) -> bool {
+    model.bodies.iter().any(|b| match b {
+        Body::Rigid(rb) => match rb.motion {
+            Motion::Velocity => rb.velocity.norm() > 0.0,
+            Motion::Displacement => rb.displacement.norm() > 0.0,
+            Motion::Fixed | Motion::Free => false,
+        },
+        Body::Deformable(_) => false,
+    }) || model
+        .path
+        .prescribed
+        .iter()
+        .any(|p| p.displacement.norm() > 0.0)
+}
+
+/// What the residual of a displacement-driven increment (no applied load) is measured
+/// against, with the forces evaluated: the contact forces and the reactions of the
+/// prescribed displacements (in a decomposed run, every particle's, gathered first).
+pub(super) fn displacement_reference(model: &mut Model) -> f64 {
+    model.gather();
+    let contact: f64 = model
+        .bodies
+        .iter()
+        .filter_map(Body::as_pd)
+        .flat_map(|pd| pd.contact_force.iter())
+        .map(|f| f.norm_squared())
+        .sum();
+    // A prescribed displacement drives through the bonds of the particles it moves: their
+    // held components' forces are its reactions.
+    let mut held = 0.0;
+    for p in &model.path.prescribed {
+        let Some(pd) = model.bodies[p.body].as_pd() else {
+            continue;
+        };
+        for &i in &p.particles {
+            let f = pd.force[i as usize];
+            for a in 0..3 {
+                if p.mask & (1 << a) != 0 {
+                    held += f[a] * f[a];
+                }
+            }
+        }
+    }
+    (contact + held).sqrt().max(f64::MIN_POSITIVE)
+}
+
+/// The end of an increment under displacement control, for the load-displacement curve.
+pub(super) fn record_increment(model: &Model, factor: f64, iteration: usize, stats: &mut RunStats) {
+    let Some(rb) = model.bodies.iter().find_map(|b| match b {
+        Body::Rigid(rb) if rb.motion == Motion::Displacement => Some(rb),
+        _ => None,
+    }) else {
+        return;
+    };
+    let broken_bonds = model
+        .bodies
+        .iter()
+        .filter_map(Body::as_pd)
+        .filter_map(|pd| pd.fracture.as_ref())
+        .map(|f| f.broken)
+        .sum();
+    stats.increments.push(Increment {
+        factor,
+        body: rb.name.clone(),
+        displacement: rb.translation.into(),
+        reaction: rb.contact_force.into(),
+        converged: stats.converged,
+        iteration,
+        broken_bonds,
+    });
 }

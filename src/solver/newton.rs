@@ -15,7 +15,10 @@
 //! degrees of freedom is below `tolerance · ‖F_applied‖₂`.
 
 use super::tangent::{scale_and_mask, Dofs, Tangent};
-use super::{applied_norm, check_missed, free_factor, full_loads, scale_loads, Monitor, RunStats};
+use super::{
+    applied_norm, check_missed, displacement_reference, driven, free_factor, full_loads,
+    record_increment, scale_loads, Monitor, RunStats,
+};
 use crate::body::Body;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
@@ -93,6 +96,26 @@ impl State {
                     Body::Deformable(_) => Vec3::zeros(),
                 })
                 .collect(),
+        }
+    }
+
+    /// Puts the linear extrapolation `self + t (self − before)` into the model: the
+    /// predictor of the next increment from the last two equilibria.
+    fn extrapolate(&self, before: &State, t: f64, model: &mut Model) {
+        for (k, b) in model.bodies.iter_mut().enumerate() {
+            match b {
+                Body::Deformable(pd) => {
+                    for ((u, now), was) in pd.u.iter_mut().zip(&self.u[k]).zip(&before.u[k]) {
+                        *u = now + (now - was) * t;
+                    }
+                }
+                Body::Rigid(rb) => {
+                    if rb.motion == Motion::Free {
+                        let (now, was) = (self.translation[k], before.translation[k]);
+                        rb.translation = now + (now - was) * t;
+                    }
+                }
+            }
         }
     }
 
@@ -230,9 +253,9 @@ pub fn newton(
     monitor: &mut dyn Monitor,
 ) -> Result<RunStats> {
     supported(model)?;
-    if !(applied_norm(model) > 0.0) {
+    if !driven(model) && !(applied_norm(model) > 0.0) {
         return Err(Error::input(
-            "nothing loads the model: a static run needs a [[load]] with a non-zero force on a body part that is free to move".to_string(),
+            "nothing loads the model: a static run needs a [[load]] with a non-zero force on a body part that is free to move, a [[constraint]] with a non-zero displacement, or a rigid body with motion = \"displacement\"".to_string(),
         ));
     }
     let stiffness: Vec<Vec<f64>> = model
@@ -250,6 +273,8 @@ pub fn newton(
     let mut step = nominal;
     let mut done = 0.0;
     let mut saved = State::of(model);
+    // The equilibrium before the last and its load factor: the predictor's other point.
+    let mut before: Option<(State, f64)> = None;
     let mut counts = Counts::default();
     let mut bond_blocks = vec![None; model.bodies.len()];
     while done < 1.0 {
@@ -258,7 +283,22 @@ pub fn newton(
         } else {
             done + step
         };
+        // Along a path walked in increments the equilibria lie on a smooth curve between
+        // contact changes: start each increment from the line through the last two (a
+        // secant predictor), which saves the Newton iterations that would rediscover it,
+        // unless that line puts a slave through its master.
+        if let Some((was, at)) = &before {
+            saved.extrapolate(was, (target - done) / (done - at), model);
+            scale_loads(model, &full, target);
+            model.path.apply(&mut model.bodies, target);
+            model.compute_forces();
+            if !sound(model) {
+                saved.apply(model, None);
+            }
+        }
         scale_loads(model, &full, target);
+        // Driven bodies, prescribed displacements and ramped loads along the path.
+        model.path.apply(&mut model.bodies, target);
         model.gather();
         monitor.load_increment(model, target, counts.newton)?;
         let outcome = increment(
@@ -272,9 +312,16 @@ pub fn newton(
         )?;
         match outcome {
             Increment::Converged => {
+                before = Some((std::mem::replace(&mut saved, State::of(model)), done));
                 done = target;
-                saved = State::of(model);
+                // The next increment's friction starts from the stick points this one
+                // ended with (an increment cut back starts again from the same ones).
+                model.commit_friction();
                 stats.load_factor = done;
+                stats.converged = true;
+                record_increment(model, done, counts.newton, &mut stats);
+                model.gather();
+                monitor.increment_done(model, done, counts.newton)?;
                 step = (step * 2.0).min(nominal);
             }
             Increment::Interrupted => {
@@ -286,7 +333,9 @@ pub fn newton(
                     stats.converged = false;
                     break;
                 }
-                step *= 0.5;
+                // Half the step that failed (the last one may have been cut short at the
+                // path's end: halving the nominal step would try the same target again).
+                step = 0.5 * (target - done);
                 stats.cutbacks += 1;
                 if step < MIN_STEP {
                     return Err(Error::numerical(format!(
@@ -320,6 +369,11 @@ fn increment(
 ) -> Result<Increment> {
     let reference = applied_norm(model);
     model.compute_forces();
+    let reference = if reference > 0.0 {
+        reference
+    } else {
+        displacement_reference(model)
+    };
     if !sound(model) {
         return Ok(Increment::Failed(
             "the state it starts from has a missed contact".into(),

@@ -131,7 +131,10 @@ enum Master {
     Ground,
 }
 
-/// One penalty spring of the tangent: `k n⊗n` between a slave particle and its master.
+/// One penalty spring of the tangent between a slave particle and its master:
+/// `C = k n⊗n + k_s (I − n⊗n − s⊗s)`, the normal law's `k` and, with friction, the
+/// tangential law's `k_s` in the master's tangent plane, less the slip direction `s` where
+/// the slave slips.
 #[derive(Clone, Copy, Debug)]
 struct Spring {
     /// The contact pass, and whether the spring is a contact's (not the stabilisation's).
@@ -142,7 +145,35 @@ struct Spring {
     normal: Vec3,
     /// N/m, the pass's weight and the slave's share included (the force's own factors).
     k: f64,
+    /// Friction's stiffness in the tangent plane, N/m (0 without friction).
+    shear: f64,
+    /// The unit slip direction of a slipping slave; zero while it sticks.
+    slip: Vec3,
     master: Master,
+}
+
+impl Spring {
+    /// `C`, symmetric.
+    fn matrix(&self) -> Matrix3<f64> {
+        let nn = self.normal * self.normal.transpose();
+        let mut c = nn * self.k;
+        if self.shear > 0.0 {
+            c += (Matrix3::identity() - nn - self.slip * self.slip.transpose()) * self.shear;
+        }
+        c
+    }
+
+    /// `C dv`.
+    #[inline]
+    fn force(&self, dv: Vec3) -> Vec3 {
+        let n = self.normal;
+        let along = n.dot(&dv);
+        let mut f = n * (self.k * along);
+        if self.shear > 0.0 {
+            f += (dv - n * along - self.slip * self.slip.dot(&dv)) * self.shear;
+        }
+        f
+    }
 }
 
 /// The tangent at one state, and its preconditioner.
@@ -266,8 +297,8 @@ impl Tangent {
         }
         let mut rigid_diag = vec![0.0; nb];
         for s in &springs {
-            let nn = s.normal * s.normal.transpose();
-            blocks[s.body][s.slave as usize] += nn * s.k;
+            let c = s.matrix();
+            blocks[s.body][s.slave as usize] += c;
             match s.master {
                 Master::Nodes {
                     body,
@@ -276,13 +307,11 @@ impl Tangent {
                 } => {
                     for (n, w) in nodes.iter().zip(weights) {
                         if w != 0.0 {
-                            blocks[body][*n as usize] += nn * (s.k * w * w);
+                            blocks[body][*n as usize] += c * (w * w);
                         }
                     }
                 }
-                Master::Free { body, axis } => {
-                    rigid_diag[body] += s.k * s.normal.dot(&axis).powi(2)
-                }
+                Master::Free { body, axis } => rigid_diag[body] += axis.dot(&(c * axis)),
                 Master::Ground => {}
             }
         }
@@ -379,8 +408,8 @@ impl Tangent {
                 Master::Free { body, axis } => axis * v.rigid[body],
                 Master::Ground => Vec3::zeros(),
             };
-            let t = s.k * (vs - vm).dot(&s.normal);
-            out.pd[s.body][s.slave as usize] += s.normal * t;
+            let f = s.force(vs - vm);
+            out.pd[s.body][s.slave as usize] += f;
             match s.master {
                 Master::Nodes {
                     body,
@@ -388,10 +417,10 @@ impl Tangent {
                     weights,
                 } => {
                     for (n, w) in nodes.iter().zip(weights) {
-                        out.pd[body][*n as usize] -= s.normal * (t * w);
+                        out.pd[body][*n as usize] -= f * w;
                     }
                 }
-                Master::Free { body, axis } => out.rigid[body] -= t * s.normal.dot(&axis),
+                Master::Free { body, axis } => out.rigid[body] -= f.dot(&axis),
                 Master::Ground => {}
             }
         }
@@ -479,6 +508,24 @@ fn pass_springs(
             pass.law.relaxation_stiffness(c.penetration)
         };
         let k = pass.weight * sb.case.ghosts.share(s) * tangent.min(pass.law.max_tangent());
+        // Friction (METHOD.md §10): sticking, the tangential penalty `k_t` across the
+        // tangent plane; slipping, the force turns with the slip at the cone's radius, so
+        // only its stiffness across the slip, `k_t μ F_n / |k_t g_t|`, is kept. What is left
+        // out (how `μ F_n` grows with the penetration, and `k_t` with it) would make the
+        // tangent unsymmetric, which conjugate gradients cannot take: Newton converges
+        // linearly rather than quadratically while slaves slip.
+        let (shear, slip) = match c.stick {
+            Some(stick) => {
+                let t = c.force - c.projection.normal * c.normal_force;
+                let slip = if stick || !(t.norm() > 0.0) {
+                    Vec3::zeros()
+                } else {
+                    t / t.norm()
+                };
+                (c.shear_stiffness, slip)
+            }
+            None => (0.0, Vec3::zeros()),
+        };
         out.push(Spring {
             pass: q,
             contact: true,
@@ -486,6 +533,8 @@ fn pass_springs(
             slave: c.slave,
             normal: c.projection.normal,
             k,
+            shear,
+            slip,
             master: master_of(segments[c.segment as usize].nodes, c.projection.weights),
         });
     }
@@ -510,6 +559,8 @@ fn pass_springs(
                 // The master's normal opposes the slave's where they touch.
                 normal: -sb.case.surface.normal[s as usize],
                 k: k0 * sb.case.ghosts.share(s as usize),
+                shear: 0.0,
+                slip: Vec3::zeros(),
                 master,
             });
         }

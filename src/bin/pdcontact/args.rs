@@ -210,6 +210,10 @@ pub(crate) enum Command {
         /// Mindlin: on a rigid flat (β ≠ 0) instead of a block of the same material.
         #[arg(long)]
         rigid_flat: bool,
+        /// Mindlin: the quasi-static solver that walks the path, adaptive dynamic relaxation
+        /// (adr) or Newton-Raphson (static).
+        #[arg(long, value_enum, default_value_t = SolverArg::Adr)]
+        solver: SolverArg,
         /// Output folder.
         #[arg(short, long, default_value = "pdcontact-friction")]
         output: PathBuf,

@@ -179,6 +179,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             push,
             steps,
             rigid_flat,
+            solver,
             output,
             json,
             quiet,
@@ -230,6 +231,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 push: 0.0,
                 steps,
                 rigid_flat,
+                static_solver: solver == SolverArg::Static,
             };
             scene.push = push * scene.full_slip_travel();
             let r = f::run_mindlin(&scene, &output, quiet)?;
