@@ -144,6 +144,7 @@ fn friction_alike_on_any_thread_count() {
     let (a, b) = (json(&a), json(&b));
     for key in [
         "friction",
+        "friction_pairs",
         "total_contact_force",
         "contact_radius",
         "iterations",
@@ -151,6 +152,30 @@ fn friction_alike_on_any_thread_count() {
         assert_eq!(a[key], b[key], "{key}");
     }
     assert!(a["friction"][0]["slipping"].as_u64() > Some(0), "{a}");
+    // The pair's report: the sphere's tangential force is all from this pair, and its two
+    // passes' slaves are the two bodies' particles that stick and slip.
+    let (body, pair) = (&a["friction"], &a["friction_pairs"][0]);
+    assert_eq!(pair["slave"], "sphere");
+    assert_eq!(pair["passes"].as_array().map(Vec::len), Some(2), "{pair}");
+    for c in 0..3 {
+        let (x, y) = (
+            pair["tangential_force"][c].as_f64().expect("number"),
+            body[0]["tangential_force"][c].as_f64().expect("number"),
+        );
+        assert!((x - y).abs() <= 1e-9 * y.abs().max(1.0), "{pair} {body}");
+    }
+    for (k, side) in pair["passes"]
+        .as_array()
+        .expect("passes")
+        .iter()
+        .enumerate()
+    {
+        assert_eq!(side["body"], body[k]["body"]);
+        for key in ["sticking", "slipping", "stick_area", "slip_area"] {
+            assert_eq!(side[key], body[k][key], "{key}");
+        }
+    }
+    assert!(pair["normal_force"].as_f64() > Some(0.0), "{pair}");
 }
 
 /// `friction = 0.0` and a ramp over the whole path are the scene without them, bit for bit.

@@ -396,6 +396,7 @@ fn friction_on_three_ranks() {
     let (a, b) = both(&path, 3);
     assert_identical(&a, &b);
     assert_eq!(a["friction"], b["friction"]);
+    assert_eq!(a["friction_pairs"], b["friction_pairs"]);
     assert!(a["friction"][0]["slipping"].as_u64() > Some(0), "{a}");
     let (one, many) = (dir.join("one"), dir.join("many"));
     common::check_vtk(&["same".as_ref(), one.as_os_str(), many.as_os_str()]);

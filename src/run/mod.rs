@@ -102,6 +102,10 @@ pub struct RunSummary {
     /// Bodies in a pair with friction: their tangential force and stick area.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub friction: Vec<report::FrictionReport>,
+    /// Pairs with friction: the tangential force each puts on its slave body, and how much
+    /// of its contact sticks.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub friction_pairs: Vec<report::FrictionPairReport>,
     /// A run over several MPI ranks: what each owned and received.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub decomposition: Option<Layout>,
@@ -444,6 +448,7 @@ pub fn run_scene_with(
         interrupted: stats.interrupted,
         fracture: report::fracture_reports(&model),
         friction: report::friction_reports(&model),
+        friction_pairs: report::friction_pair_reports(&model),
         decomposition,
         solver: stats,
         error: error.as_ref().map(ToString::to_string),

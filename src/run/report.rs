@@ -221,3 +221,150 @@ pub fn friction_reports(model: &Model) -> Vec<FrictionReport> {
         })
         .collect()
 }
+
+/// How the slaves of one pass of a pair with friction touch: those in contact that stick and
+/// that slip, and their pressure areas, m² (in a model cut by symmetry planes, of the
+/// model's part).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct StickState {
+    /// The body whose particles these are (the pass's slave).
+    pub body: String,
+    pub sticking: usize,
+    pub slipping: usize,
+    pub stick_area: f64,
+    pub slip_area: f64,
+}
+
+/// Friction in one `[[contact]]` pair with friction (`summary.json`'s `friction_pairs`).
+#[derive(Clone, Debug, Serialize)]
+pub struct FrictionPairReport {
+    pub slave: String,
+    pub master: String,
+    /// Coulomb's μ.
+    pub friction: f64,
+    /// The pair's tangential force on the slave body, N (the master takes the opposite):
+    /// friction's part of the contact forces, over both passes of a two-pass pair.
+    pub tangential_force: [f64; 3],
+    /// The pair's normal force, N: the sum of its contacts' normal forces (both passes).
+    pub normal_force: f64,
+    /// The slave's particles as slaves, then, with two passes, the master's.
+    pub passes: Vec<StickState>,
+}
+
+/// Values per block of slave particles that [`friction_pair_reports`] sums: the tangential
+/// force (3), the normal force, sticking and slipping counts and areas.
+const PASS_SUMS: usize = 8;
+
+/// The [`FrictionPairReport`] of each pair with friction. Each pass's contacts are summed
+/// block by block of slave particles, the blocks in order over the ranks, so that a
+/// decomposed run reports the bits of one process. Collective.
+pub fn friction_pair_reports(model: &Model) -> Vec<FrictionPairReport> {
+    // Per pass with friction (not a body's own crack faces): its block sums.
+    let passes: Vec<usize> = (0..model.passes.len())
+        .filter(|&k| {
+            let p = &model.passes[k];
+            p.friction > 0.0 && p.slave != p.master
+        })
+        .collect();
+    if passes.is_empty() {
+        return Vec::new();
+    }
+    let mut mine = Vec::new();
+    for &k in &passes {
+        let p = &model.passes[k];
+        let area = model.bodies[p.slave]
+            .as_pd()
+            .map(|pd| &pd.case.segments.pressure_area[..]);
+        let mut blocks: Vec<[f64; PASS_SUMS]> = Vec::new();
+        let mut block = usize::MAX;
+        for c in &p.contacts {
+            let b = c.slave as usize / crate::reduction::BLOCK;
+            if b != block {
+                blocks.push([0.0; PASS_SUMS]);
+                block = b;
+            }
+            let g = blocks.last_mut().expect("pushed above");
+            let t = c.force - c.projection.normal * c.normal_force;
+            for a in 0..3 {
+                g[a] += t[a];
+            }
+            g[3] += c.normal_force;
+            let a = area.map_or(0.0, |a| a[c.slave as usize]);
+            match c.stick {
+                Some(true) => {
+                    g[4] += 1.0;
+                    g[6] += a;
+                }
+                Some(false) => {
+                    g[5] += 1.0;
+                    g[7] += a;
+                }
+                None => {}
+            }
+        }
+        mine.push(blocks.len() as f64);
+        mine.extend(blocks.iter().flatten());
+    }
+    let parts = match &model.domain {
+        Some(d) => d.comm().all_gather_varcount(&mine),
+        None => vec![mine],
+    };
+    let mut sums = vec![[0.0; PASS_SUMS]; passes.len()];
+    for part in &parts {
+        let mut at = 0;
+        for s in sums.iter_mut() {
+            let nb = part[at] as usize;
+            at += 1;
+            for g in part[at..at + PASS_SUMS * nb].chunks_exact(PASS_SUMS) {
+                for (x, v) in s.iter_mut().zip(g) {
+                    *x += v;
+                }
+            }
+            at += PASS_SUMS * nb;
+        }
+    }
+    let name = |k: usize| match &model.bodies[k] {
+        Body::Deformable(pd) => pd.name.clone(),
+        Body::Rigid(rb) => rb.name.clone(),
+    };
+    let state = |k: usize, s: &[f64; PASS_SUMS]| StickState {
+        body: name(model.passes[k].slave),
+        sticking: s[4] as usize,
+        slipping: s[5] as usize,
+        stick_area: s[6],
+        slip_area: s[7],
+    };
+    // A two-pass pair is two passes in a row, each with half the pair's stiffness, the
+    // second the first turned round.
+    let mut out = Vec::new();
+    let mut q = 0;
+    while q < passes.len() {
+        let (k, s) = (passes[q], &sums[q]);
+        let p = &model.passes[k];
+        let mut report = FrictionPairReport {
+            slave: name(p.slave),
+            master: name(p.master),
+            friction: p.friction,
+            tangential_force: [s[0], s[1], s[2]],
+            normal_force: s[3],
+            passes: vec![state(k, s)],
+        };
+        let second = passes.get(q + 1).filter(|&&k2| {
+            let p2 = &model.passes[k2];
+            p.weight < 1.0 && p2.slave == p.master && p2.master == p.slave
+        });
+        if let Some(&k2) = second {
+            let s2 = &sums[q + 1];
+            // The second pass's slaves are the master's: their force is the reaction's.
+            for a in 0..3 {
+                report.tangential_force[a] -= s2[a];
+            }
+            report.normal_force += s2[3];
+            report.passes.push(state(k2, s2));
+            q += 1;
+        }
+        out.push(report);
+        q += 1;
+    }
+    out
+}
