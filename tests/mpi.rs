@@ -389,6 +389,7 @@ fn friction_on_three_ranks() {
         steps: 2,
         rigid_flat: false,
         static_solver: false,
+        meshes: None,
     };
     scene.push = 1.5 * scene.full_slip_travel();
     let path = dir.join("mindlin.toml");

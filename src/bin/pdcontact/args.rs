@@ -214,6 +214,18 @@ pub(crate) enum Command {
         /// (adr) or Newton-Raphson (static).
         #[arg(long, value_enum, default_value_t = SolverArg::Adr)]
         solver: SolverArg,
+        /// Mindlin: the sphere's mesh in place of the built-in one (its inner face the set
+        /// `top`, on y ≥ 0: what tools/gmsh_mindlin.py writes); with --block-mesh.
+        #[arg(
+            long,
+            value_name = "FILE",
+            requires = "block_mesh",
+            conflicts_with = "rigid_flat"
+        )]
+        sphere_mesh: Option<PathBuf>,
+        /// Mindlin: the block's mesh (its bottom face the set `bottom`, on y ≥ 0).
+        #[arg(long, value_name = "FILE", requires = "sphere_mesh")]
+        block_mesh: Option<PathBuf>,
         /// Output folder.
         #[arg(short, long, default_value = "pdcontact-friction")]
         output: PathBuf,

@@ -180,6 +180,8 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             steps,
             rigid_flat,
             solver,
+            sphere_mesh,
+            block_mesh,
             output,
             json,
             quiet,
@@ -232,7 +234,16 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 steps,
                 rigid_flat,
                 static_solver: solver == SolverArg::Static,
+                meshes: None,
             };
+            if let (Some(sphere), Some(block)) = (sphere_mesh, block_mesh) {
+                // Absolute: the scene is written into the output folder and read from there.
+                let absolute = |p: std::path::PathBuf| {
+                    std::fs::canonicalize(&p)
+                        .map_err(|e| Error::input(format!("cannot read mesh {}: {e}", p.display())))
+                };
+                scene.meshes = Some((absolute(sphere)?, absolute(block)?));
+            }
             scene.push = push * scene.full_slip_travel();
             let r = f::run_mindlin(&scene, &output, quiet)?;
             print_report(json, &r, || r.to_text());

@@ -13,7 +13,7 @@
 //! a load on the face and only x held, the sector tilted under Q by about 0.05 rad and the
 //! slip zone gathered on its trailing side.)
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
@@ -44,6 +44,10 @@ pub struct MindlinScene {
     pub rigid_flat: bool,
     /// `true`: the static solver walks the path (Newton in each increment); ADR otherwise.
     pub static_solver: bool,
+    /// The sphere's and the block's meshes, in place of the built-in generators
+    /// (`tools/gmsh_mindlin.py` writes them: the sphere's inner face the set `top`, the
+    /// block's bottom `bottom`, both on y ≥ 0); `spacing` then only names the run.
+    pub meshes: Option<(PathBuf, PathBuf)>,
 }
 
 impl MindlinScene {
@@ -85,10 +89,18 @@ impl MindlinScene {
                 s = 4.0 * hw
             )
         } else {
+            let shape = match &self.meshes {
+                Some((_, block)) => format!("mesh = {}", toml_path(block)),
+                None => format!(
+                    "generator = {{ shape = \"box\", min = [-{hw}, 0.0, {}], max = [{hw}, {hw}, -{RADIUS}], spacing = {} }}",
+                    -RADIUS - hw,
+                    self.spacing
+                ),
+            };
             format!(
                 r#"[[body]]
 name = "block"
-generator = {{ shape = "box", min = [-{hw}, 0.0, {bottom}], max = [{hw}, {hw}, -{RADIUS}], spacing = {dx} }}
+{shape}
 kinematics = "small"
 {mat}
 [[constraint]]
@@ -100,10 +112,15 @@ fix = ["x", "y", "z"]
 body = "block"
 axis = "y"
 "#,
-                bottom = -RADIUS - hw,
-                dx = self.spacing,
                 mat = material(),
             )
+        };
+        let sphere = match &self.meshes {
+            Some((sphere, _)) => format!("mesh = {}", toml_path(sphere)),
+            None => format!(
+                "generator = {{ shape = \"sphere_cap\", radius = {RADIUS}, half_width = {hw}, depth = {hw}, spacing = {} }}",
+                self.spacing
+            ),
         };
         let two_pass = if self.rigid_flat {
             ""
@@ -126,7 +143,7 @@ every = 1000000
 
 [[body]]
 name = "sphere"
-generator = {{ shape = "sphere_cap", radius = {RADIUS}, half_width = {hw}, depth = {hw}, spacing = {dx} }}
+{sphere}
 kinematics = "small"
 {mat}
 [[symmetry]]
@@ -165,12 +182,16 @@ friction = {mu}
             push = self.push,
             mu = self.friction,
             steps = 2 * self.steps,
-            dx = self.spacing,
             mat = material(),
             approach = self.approach(),
             kind = if self.static_solver { "static" } else { "adr" },
         )
     }
+}
+
+/// A path as a TOML string.
+fn toml_path(p: &Path) -> String {
+    toml::Value::String(p.display().to_string()).to_string()
 }
 
 fn material() -> String {
@@ -404,8 +425,13 @@ pub fn run_mindlin(scene: &MindlinScene, folder: &Path, quiet: bool) -> Result<M
             p.slip_travel = p.push - own * p.tangential_force;
         }
     }
+    // On a user's meshes the spacing is the sphere's own.
+    let spacing = match (&scene.meshes, model.bodies[0].as_pd()) {
+        (Some(_), Some(sphere)) => sphere.spacing(),
+        _ => scene.spacing,
+    };
     Ok(MindlinResult {
-        spacing: scene.spacing,
+        spacing,
         contact_radius: scene.contact_radius,
         friction: scene.friction,
         rigid_flat: scene.rigid_flat,
@@ -438,7 +464,7 @@ impl MindlinResult {
     /// The table a user reads.
     pub fn to_text(&self) -> String {
         let mut s = format!(
-            "Cattaneo-Mindlin: sphere R = {RADIUS} m on {}, a = {} m, Δ = {} m (a/Δ = {:.1}), μ = {}; {} particles, {} {} iterations, {:.1} s (the stuck reference by ADR: {:.1} s)\n",
+            "Cattaneo-Mindlin: sphere R = {RADIUS} m on {}, a = {} m, Δ = {:.4} m (a/Δ = {:.1}), μ = {}; {} particles, {} {} iterations, {:.1} s (the stuck reference by ADR: {:.1} s)\n",
             if self.rigid_flat {
                 "a rigid flat (β ≠ 0: the theory is approximate)"
             } else {
