@@ -12,7 +12,13 @@
 //! missed contact is a step too long). An increment that does not reach the tolerance in
 //! [`NEWTON_PER_INCREMENT`] iterations starts again from the last equilibrium with half the
 //! load step, down to [`MIN_STEP`] of the load. Converged, as ADR, when `‖R‖₂` over the free
-//! degrees of freedom is below `tolerance · ‖F_applied‖₂`.
+//! degrees of freedom is below `tolerance · ‖F_applied‖₂` (a run driven by displacements
+//! alone: against the contact forces and the prescribed displacements' reactions).
+//!
+//! The load path is ADR's ([`crate::model::path`]): ramped loads, prescribed displacements and
+//! driven bodies set at each increment's load factor, and friction's stick points kept from
+//! the end of one increment to the next (METHOD.md §10). Each increment after the second
+//! starts from the line through the last two equilibria.
 
 use super::tangent::{scale_and_mask, Dofs, Tangent};
 use super::{

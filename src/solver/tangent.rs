@@ -20,6 +20,11 @@
 //!   stiffness `dF/dδ = 1.5 K δ^{1/2}`: `k dg n` on the slave, `−N_a k dg n` on the master's
 //!   nodes. The variation of `n` and of `(r, t)` is left out (a frictionless contact on a
 //!   smooth surface hardly turns them), so this is the tangent on the projected normal.
+//! * **Friction** (METHOD.md §10). A sticking slave adds the tangential penalty `k_t (I − n⊗n)`
+//!   on the same relative motion; a slipping one `k_t (μF_n/|k_t g_t|)` across its slip only
+//!   (along it the force stays `μF_n`); a slave without a committed stick point nothing (its
+//!   force is nil until the increment ends). How `μF_n` and `k_t` vary with the penetration is
+//!   left out: it would make the tangent unsymmetric.
 //! * **Stabilisation.** A body held only by contact has no stiffness along its load before
 //!   it touches, and the first Newton step would carry it away. Every slave that may touch
 //!   (a Verlet candidate, [`ContactPass::may_touch`]) gets, in the tangent only, the
