@@ -186,7 +186,7 @@ impl ContactPass {
             .filter(|c| c.stick.is_some())
             .flat_map(move |c| {
                 let nodes = segments[c.segment as usize].nodes;
-                let t = c.force - c.projection.normal * c.normal_force;
+                let t = c.tangential_force();
                 (0..4).filter_map(move |k| {
                     let w = c.projection.weights[k];
                     (w != 0.0).then(|| (nodes[k], -(t * w)))

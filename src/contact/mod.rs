@@ -38,6 +38,7 @@ mod law;
 mod narrow;
 pub mod overlap;
 pub mod shortrange;
+mod sums;
 
 use rayon::prelude::*;
 
@@ -201,6 +202,13 @@ pub struct ContactPoint {
     /// With friction: the work slip has dissipated since the committed stick point,
     /// `μ F_n` times the distance the stick point moved, J.
     pub slip_work: f64,
+}
+
+impl ContactPoint {
+    /// Friction's part of the force on the slave (zero without friction), N.
+    pub fn tangential_force(&self) -> Vec3 {
+        self.force - self.projection.normal * self.normal_force
+    }
 }
 
 /// Slave particles of one body checked against the master segments of another.
@@ -718,7 +726,7 @@ impl ContactPass {
                 self.weight * self.law.relaxation_stiffness(c.penetration) * factor - may_touch;
             if let (Some(fr), Some(stick)) = (&mut sb.friction, c.stick) {
                 let s = c.slave as usize;
-                fr.force[s] += c.force - c.projection.normal * c.normal_force;
+                fr.force[s] += c.tangential_force();
                 // Slipping in any pair reads as slipping.
                 let state = i8::from(stick);
                 fr.stick[s] = if fr.stick[s] < 0 {
@@ -768,34 +776,6 @@ impl ContactPass {
             crate::scene::PenaltyLaw::Hertz => 0.4 * f * c.penetration,
             crate::scene::PenaltyLaw::Linear => 0.5 * f * c.penetration,
         }
-    }
-
-    /// The contacts' forces on the slaves and, against a rigid master of axis `axis`, their
-    /// tangent stiffness along it, summed over each block of
-    /// [`BLOCK`](crate::reduction::BLOCK) slave particles (in order, from zero) that holds a
-    /// contact: `[fx, fy, fz, k]` a block, blocks in order. A sum over the blocks in order is
-    /// then the same whether one process or the ranks of a decomposed run, whose ranges hold
-    /// whole blocks, made them.
-    pub fn block_sums(&self, axis: Option<Vec3>) -> Vec<[f64; 4]> {
-        let mut out: Vec<[f64; 4]> = Vec::new();
-        let mut block = usize::MAX;
-        for c in &self.contacts {
-            let b = c.slave as usize / crate::reduction::BLOCK;
-            if b != block {
-                out.push([0.0; 4]);
-                block = b;
-            }
-            let g = out.last_mut().expect("pushed above");
-            for a in 0..3 {
-                g[a] += c.force[a];
-            }
-            if let Some(axis) = axis {
-                g[3] += self.weight
-                    * self.law.relaxation_stiffness(c.penetration)
-                    * c.projection.normal.dot(&axis).powi(2);
-            }
-        }
-        out
     }
 }
 

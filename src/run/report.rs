@@ -275,16 +275,8 @@ pub fn friction_pair_reports(model: &Model) -> Vec<FrictionPairReport> {
         let area = model.bodies[p.slave]
             .as_pd()
             .map(|pd| &pd.case.segments.pressure_area[..]);
-        let mut blocks: Vec<[f64; PASS_SUMS]> = Vec::new();
-        let mut block = usize::MAX;
-        for c in &p.contacts {
-            let b = c.slave as usize / crate::reduction::BLOCK;
-            if b != block {
-                blocks.push([0.0; PASS_SUMS]);
-                block = b;
-            }
-            let g = blocks.last_mut().expect("pushed above");
-            let t = c.force - c.projection.normal * c.normal_force;
+        let blocks = p.sum_by_block(|c, g: &mut [f64; PASS_SUMS]| {
+            let t = c.tangential_force();
             for a in 0..3 {
                 g[a] += t[a];
             }
@@ -301,7 +293,7 @@ pub fn friction_pair_reports(model: &Model) -> Vec<FrictionPairReport> {
                 }
                 None => {}
             }
-        }
+        });
         mine.push(blocks.len() as f64);
         mine.extend(blocks.iter().flatten());
     }

@@ -521,7 +521,7 @@ fn pass_springs(
         // linearly rather than quadratically while slaves slip.
         let (shear, slip) = match c.stick {
             Some(stick) => {
-                let t = c.force - c.projection.normal * c.normal_force;
+                let t = c.tangential_force();
                 let slip = if stick || !(t.norm() > 0.0) {
                     Vec3::zeros()
                 } else {
