@@ -1,7 +1,8 @@
 //! Coulomb friction (METHOD.md §10, docs/VALIDATION.md "Friction"): a block on a tilted plane
 //! that holds below tan θ = μ and slides at g (sin θ − μ cos θ) above it (explicit), a sphere
 //! pressed into a block of the same material and pushed sideways against Cattaneo-Mindlin
-//! (ADR), the same bits on any thread count, and frictionless scenes untouched.
+//! (ADR and the static solver), the same bits on any thread count, and frictionless scenes
+//! untouched.
 
 use pdcontact::run::RunSummary;
 use pdcontact::studies::friction::{
@@ -67,40 +68,79 @@ fn mindlin(spacing: f64, steps: usize) -> MindlinScene {
     s
 }
 
-/// The sphere pressed into a block of the same material (β = 0) at a/Δ = 5, then pushed: at
-/// each increment of the push with 0.2 ≤ Q/(μP) ≤ 0.85 the stick radius within 0.06 a of
-/// `a (1 − Q/(μP))^{1/3}`, the shear traction within 7.5 % of μ p0 (mean within 0.8 a) and the
-/// contact's tangential travel within 5 % of Mindlin's. Measured: stick radius +0.001 to
-/// +0.055 a, shear 5.0-6.8 %, travel −0.4 to +2.4 %; docs/VALIDATION.md has the finer rows.
+/// The scene where Mindlin's half-space theory holds, a/R = 0.05, at a/Δ = `resolution`,
+/// by the static solver.
+fn mindlin_half_space(resolution: f64) -> MindlinScene {
+    let mut s = MindlinScene {
+        contact_radius: 0.05,
+        spacing: 0.05 / resolution,
+        static_solver: true,
+        ..mindlin(0.01, 8)
+    };
+    s.push = 1.5 * s.full_slip_travel();
+    s
+}
+
+/// The sphere pressed into a block of the same material (β = 0) at a/R = 0.05 and a/Δ = 5,
+/// then pushed: at each increment of the push with 0.15 ≤ Q/(μP) ≤ 0.9 the shear traction
+/// within 5 % of μ p0 (mean within 0.8 a), the stick radius within 0.08 a of
+/// `a (1 − Q/(μP))^{1/3}` and the contact's tangential travel within 3 % of Mindlin's.
+/// Measured: shear 1.8-4.6 %, stick radius +0.034 to +0.073 a (within 0.022 a from
+/// a/Δ = 7.5), travel −1.4 to +1.3 %; docs/VALIDATION.md has the finer rows.
 #[test]
 fn a_pushed_sphere_sticks_within_mindlins_radius() {
     let r: MindlinResult =
-        run_mindlin(&mindlin(0.03, 8), &temp_dir("mindlin"), true).expect("runs");
+        run_mindlin(&mindlin_half_space(5.0), &temp_dir("mindlin"), true).expect("runs");
     let pushed: Vec<_> = r
         .points
         .iter()
-        .filter(|p| (0.2..=0.85).contains(&p.ratio))
+        .filter(|p| (0.15..=0.9).contains(&p.ratio))
         .collect();
     assert!(pushed.len() >= 4, "{}", r.to_text());
-    // Q rises with the push.
+    // Q rises with the push, to full slip.
     assert!(
-        r.points.windows(2).all(|w| w[1].ratio > w[0].ratio),
+        r.points.windows(2).all(|w| w[1].ratio >= w[0].ratio),
         "{}",
         r.to_text()
     );
     for p in pushed {
+        assert!(p.shear_mre < 0.05, "{}", r.to_text());
         assert!(
-            (p.stick_ratio - p.theory_stick_ratio).abs() < 0.06,
+            (p.stick_ratio - p.theory_stick_ratio).abs() < 0.08,
             "{}",
             r.to_text()
         );
-        assert!(p.shear_mre < 0.075, "{}", r.to_text());
         assert!(
-            (p.slip_travel / p.theory_slip_travel - 1.0).abs() < 0.05,
+            (p.slip_travel / p.theory_slip_travel - 1.0).abs() < 0.03,
             "{}",
             r.to_text()
         );
     }
+}
+
+/// Mindlin's theory is the half-space's: pressing a sphere leaves no shear in the contact of
+/// two bodies of the same material. A sphere's curvature leaves one, growing with a/R, which
+/// the theory leaves out (docs/VALIDATION.md, "Where the half-space theory holds"): at
+/// a/Δ = 3, the pressing's shear at a/R = 0.15 more than twice that at a/R = 0.05, and that
+/// under 2.5 % of μ p0. Measured: 3.88 % and 1.54 % (4.84 % and 1.77 % at a/Δ = 5, whatever
+/// the spacing and the bodies' size).
+#[test]
+fn the_pressing_leaves_a_shear_that_grows_with_the_contact_over_the_radius() {
+    let shear = |s: MindlinScene, name: &str| {
+        let r = run_mindlin(&s, &temp_dir(name), true).expect("runs");
+        (
+            r.pressing_shear.expect("the pressing's end measured"),
+            r.to_text(),
+        )
+    };
+    let wide = MindlinScene {
+        static_solver: true,
+        ..mindlin(0.05, 8)
+    };
+    let (curved, a) = shear(wide, "pressing-wide");
+    let (flat, b) = shear(mindlin_half_space(3.0), "pressing-narrow");
+    assert!(curved > 2.0 * flat, "{a}{b}");
+    assert!(flat < 0.025, "{a}{b}");
 }
 
 /// The static solver walks the same load path to the same equilibria as ADR: the holder's

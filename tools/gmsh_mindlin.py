@@ -15,7 +15,7 @@ Mesh.SubdivisionAlgorithm = 2), and prints their node counts. Then
 
     pdcontact friction --case mindlin --sphere-mesh DIR/sphere.msh --block-mesh DIR/block.msh
 
-runs the push on them (A must match --contact-radius there: 0.15 m, the default).
+runs the push on them (A must match --contact-radius there; both default to 0.05 m).
 Needs: python3 -m pip install gmsh==4.15.2
 """
 import argparse
@@ -88,7 +88,7 @@ def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("dir")
     p.add_argument("h", type=float)
-    p.add_argument("--a", type=float, default=0.15)
+    p.add_argument("--a", type=float, default=0.05)
     p.add_argument("--kind", choices=["tet4", "tet10", "hex"], default="tet4")
     p.add_argument("--seed", type=int, default=1)
     o = p.parse_args()

@@ -174,6 +174,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
         Command::Friction {
             case,
             spacing,
+            contact_radius,
             friction,
             slope,
             push,
@@ -187,8 +188,13 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             quiet,
         } => {
             use pdcontact::studies::friction as f;
+            if !(contact_radius > 0.0 && contact_radius < 0.5) {
+                return Err(Error::input(format!(
+                    "--contact-radius must lie between 0 and 0.5 m (the sphere's radius is 1 m), got {contact_radius}"
+                )));
+            }
             let spacing = spacing.unwrap_or(match case {
-                FrictionCase::Mindlin => 0.03,
+                FrictionCase::Mindlin => contact_radius / 5.0,
                 FrictionCase::Sliding => 0.01,
             });
             if !(spacing > 0.0 && spacing.is_finite()) {
@@ -227,7 +233,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 return Ok(Outcome::Done);
             }
             let mut scene = f::MindlinScene {
-                contact_radius: 0.15,
+                contact_radius,
                 spacing,
                 friction,
                 push: 0.0,

@@ -243,6 +243,10 @@ pub struct MindlinResult {
     pub wall_seconds: f64,
     /// The stuck reference's wall time, s.
     pub reference_wall_seconds: f64,
+    /// The shear traction the pressing leaves, before any push: the mean `|q_x|` within
+    /// 0.8 a over `μ p0` (Mindlin's theory, the half-space's, has none: what a sphere's
+    /// curvature brings at a/R is left out of it).
+    pub pressing_shear: Option<f64>,
     pub points: Vec<MindlinPoint>,
 }
 
@@ -295,6 +299,8 @@ pub fn stick_radius(sphere: &PdBody, f: &crate::body::FrictionForces, centre: f6
 struct Push<'a> {
     scene: &'a MindlinScene,
     points: Vec<MindlinPoint>,
+    /// The state where the pressing ends, before any push.
+    pressed: Option<MindlinPoint>,
 }
 
 impl Push<'_> {
@@ -372,6 +378,10 @@ impl Monitor for Push<'_> {
     /// Each increment of the push (past the middle of the path) in the equilibrium it
     /// reached.
     fn increment_done(&mut self, model: &Model, factor: f64, _: usize) -> Result<()> {
+        // The pressing's end: Mindlin's theory has no shear there.
+        if (factor - 0.5).abs() < 1e-9 {
+            self.pressed = self.measure(model, factor);
+        }
         if factor > 0.5 + 1e-9 {
             if let Some(p) = self.measure(model, factor) {
                 self.points.push(p);
@@ -389,6 +399,7 @@ pub fn run_mindlin(scene: &MindlinScene, folder: &Path, quiet: bool) -> Result<M
     let mut push = Push {
         scene,
         points: Vec::new(),
+        pressed: None,
     };
     let (model, summary, wall) = run_in(&scene.scene(), folder, quiet, &mut push)?;
     if let Some(e) = &summary.error {
@@ -410,6 +421,7 @@ pub fn run_mindlin(scene: &MindlinScene, folder: &Path, quiet: bool) -> Result<M
     let mut reference = Push {
         scene: &stuck,
         points: Vec::new(),
+        pressed: None,
     };
     let (_, stuck_summary, stuck_wall) =
         run_in(&stuck.scene(), &folder.join("stuck"), quiet, &mut reference)?;
@@ -440,6 +452,7 @@ pub fn run_mindlin(scene: &MindlinScene, folder: &Path, quiet: bool) -> Result<M
         iterations: summary.iterations,
         wall_seconds: wall,
         reference_wall_seconds: stuck_wall,
+        pressing_shear: push.pressed.map(|p| p.shear_mre),
         points: push.points,
     })
 }
@@ -484,6 +497,13 @@ impl MindlinResult {
             self.wall_seconds,
             self.reference_wall_seconds
         );
+        if let Some(shear) = self.pressing_shear {
+            s.push_str(&format!(
+                "  the pressing's end (Q = 0): shear {:.2} % of μp0 within 0.8a, where the half-space theory has none (a/R = {})\n",
+                100.0 * shear,
+                self.contact_radius / RADIUS
+            ));
+        }
         s.push_str("  Q/(μP)   c/a     theory   error (of a)   shear MRE (of μp0, r ≤ 0.8a)   contact's travel (m), theory, error\n");
         for p in &self.points {
             s.push_str(&format!(
