@@ -340,11 +340,16 @@ impl PdBody {
     /// Where the body's pre-crack faces have passed through each other: the pair of
     /// particles that crossed deepest, `(precrack, behind, in front, depth)`, the depth how
     /// far the particle in front now lies behind its partner along the normal, m. `None`
-    /// where none crossed.
+    /// where none crossed. A particle that has lost every bond is debris, on no face (an
+    /// impact that crushes a notch's mouth throws such particles across it).
     pub fn crossed_crack(&self) -> Option<(usize, u32, u32, f64)> {
+        let detached = |i: u32| self.damage(i as usize) > 1.0 - 1e-9;
         let mut deepest: Option<(usize, u32, u32, f64)> = None;
         for (k, normal, pairs) in &self.precrack_pairs {
             for &(a, b) in pairs {
+                if detached(a) || detached(b) {
+                    continue;
+                }
                 let d = -normal.dot(&(self.position(b as usize) - self.position(a as usize)));
                 if d > 0.0 && deepest.is_none_or(|x| d > x.3) {
                     deepest = Some((*k, a, b, d));
