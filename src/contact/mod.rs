@@ -694,6 +694,15 @@ impl ContactPass {
         }
     }
 
+    /// The candidate segments of slave `k` of this pass (an index into `slaves`) at the last
+    /// Verlet rebuild.
+    pub fn candidates(&self, k: usize) -> &[u32] {
+        match (self.verlet.offsets.get(k), self.verlet.offsets.get(k + 1)) {
+            (Some(&a), Some(&b)) if b > a => &self.verlet.candidates[a as usize..b as usize],
+            _ => &[],
+        }
+    }
+
     /// Whether slave `k` of this pass (an index into `slaves`) had a candidate segment at the
     /// last Verlet rebuild: it may touch within a step (the slaves that ADR's density and the
     /// static solver's stabilisation weigh).

@@ -29,8 +29,9 @@
 //!   it touches, and the first Newton step would carry it away. Every slave that may touch
 //!   (a Verlet candidate, [`ContactPass::may_touch`]) gets, in the tangent only, the
 //!   light-contact stiffness that ADR gives it ([`ContactLaw::relaxation_stiffness`] at 0)
-//!   along its own normal, times a factor that the Newton loop halves each
-//!   iteration. The residual is untouched, so the equilibrium is the same; only the path to
+//!   along its own normal, and a deformable master that its loads push where no support
+//!   holds it the same on the nodes of a segment the slave may touch (the body held only by
+//!   contact may be the master), times a factor that the Newton loop halves each iteration. The residual is untouched, so the equilibrium is the same; only the path to
 //!   it changes.
 
 use nalgebra::Matrix3;
@@ -545,6 +546,8 @@ fn pass_springs(
     }
     if stabilise > 0.0 {
         let k0 = stabilise * pass.weight * pass.law.relaxation_stiffness(0.0);
+        let master = &model.bodies[pass.master];
+        let loose_master = master.as_pd().is_some() && super::unheld::pushed(master).is_some();
         for (k, &s) in pass.slaves.iter().enumerate() {
             if touching[s as usize] || !pass.may_touch(k) {
                 continue;
@@ -556,18 +559,41 @@ fn pass_springs(
                 },
                 _ => Master::Ground,
             };
+            // The master's normal opposes the slave's where they touch.
+            let normal = -sb.case.surface.normal[s as usize];
+            let k_s = k0 * sb.case.ghosts.share(s as usize);
             out.push(Spring {
                 pass: q,
                 contact: false,
                 body: pass.slave,
                 slave: s,
-                // The master's normal opposes the slave's where they touch.
-                normal: -sb.case.surface.normal[s as usize],
-                k: k0 * sb.case.ghosts.share(s as usize),
+                normal,
+                k: k_s,
                 shear: 0.0,
                 slip: Vec3::zeros(),
                 master,
             });
+            // A deformable master that its loads push where no support holds it (a sphere
+            // pressed on a fixed block that is the slave) is as loose before it touches: the
+            // nodes of a candidate segment of the slave's get the same spring, shared among
+            // them.
+            if let (true, Some(&seg)) = (loose_master, pass.candidates(k).first()) {
+                let segment = &segments[seg as usize];
+                let corners = if segment.is_triangle() { 3 } else { 4 };
+                for &node in &segment.nodes[..corners] {
+                    out.push(Spring {
+                        pass: q,
+                        contact: false,
+                        body: pass.master,
+                        slave: node,
+                        normal,
+                        k: k_s / corners as f64,
+                        shear: 0.0,
+                        slip: Vec3::zeros(),
+                        master: Master::Ground,
+                    });
+                }
+            }
         }
     }
     out

@@ -38,7 +38,7 @@ pub struct Unheld {
 }
 
 /// The unit direction the loads push body `k` in, less what its own supports hold.
-fn pushed(body: &Body) -> Option<Vec3> {
+pub(super) fn pushed(body: &Body) -> Option<Vec3> {
     match body {
         Body::Deformable(pd) => {
             let mut held = 0u8;
