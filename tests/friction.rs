@@ -208,6 +208,29 @@ fn a_sphere_meshed_by_gmsh_sticks_within_mindlins_radius() {
     }
 }
 
+/// A sphere's mesh made for one contact radius, run at another: refused before any solve,
+/// naming the radius it was made for.
+#[test]
+fn a_sphere_mesh_for_another_contact_radius_is_refused() {
+    let stored = |f: &str| {
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("meshes")
+            .join(f)
+    };
+    let scene = MindlinScene {
+        meshes: Some((
+            stored("mindlin_sphere_tet4_h004.msh"),
+            stored("mindlin_block_tet4_h004.msh"),
+        )),
+        ..mindlin_half_space(5.0)
+    };
+    let e = run_mindlin(&scene, &temp_dir("mindlin-mismatch"), true)
+        .expect_err("a mesh for a = 0.15 m at a = 0.05 m")
+        .to_string();
+    assert!(e.contains("made for a = 0.15"), "{e}");
+    assert!(e.contains("mindlin_sphere_tet4_h004.msh"), "{e}");
+}
+
 /// The same bits on one and on two threads: the stick points are each slave's own.
 #[test]
 fn friction_alike_on_any_thread_count() {

@@ -396,6 +396,9 @@ impl Monitor for Push<'_> {
 
 /// Runs one scene into `folder`.
 pub fn run_mindlin(scene: &MindlinScene, folder: &Path, quiet: bool) -> Result<MindlinResult> {
+    if let Some((sphere, _)) = &scene.meshes {
+        check_sphere_mesh(sphere, scene.contact_radius)?;
+    }
     let mut push = Push {
         scene,
         points: Vec::new(),
@@ -455,6 +458,25 @@ pub fn run_mindlin(scene: &MindlinScene, folder: &Path, quiet: bool) -> Result<M
         pressing_shear: push.pressed.map(|p| p.shear_mre),
         points: push.points,
     })
+}
+
+/// Refuses a sphere's mesh made for another contact radius: the scene's holder, push and
+/// theory are all scaled with `a`, and the mesh's half cap spans 6a along x.
+fn check_sphere_mesh(path: &Path, a: f64) -> Result<()> {
+    let mesh = pdcontact_importers::read_path(path, None)?;
+    let Some((lo, hi)) = mesh.bbox() else {
+        return Ok(());
+    };
+    let width = hi[0] - lo[0];
+    if (width / (6.0 * a) - 1.0).abs() > 0.1 {
+        return Err(Error::input(format!(
+            "the sphere's mesh {} spans {width:.4} m along x, where the scene at a = {a} m needs 6a = {:.4} m: it was made for a = {:.4} m (tools/gmsh_mindlin.py --a); give that --contact-radius, or mesh it again with --a {a}",
+            path.display(),
+            6.0 * a,
+            width / 6.0
+        )));
+    }
+    Ok(())
 }
 
 impl MindlinScene {
