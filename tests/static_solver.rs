@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use pdcontact::run::{run_scene, RunOptions};
+use pdcontact::run::{run_scene, RunOptions, RunSummary};
 use pdcontact::scene::Scene;
 use pdcontact::Error;
 
@@ -21,6 +21,16 @@ fn quiet(dir: &Path) -> RunOptions {
         stop: None,
         comm: None,
     }
+}
+
+/// The scene `text(kind)` run by ADR and by the static solver, each into its own folder of
+/// `dir`: their summaries.
+fn adr_and_static(dir: &Path, text: impl Fn(&str) -> String) -> (RunSummary, RunSummary) {
+    let run = |kind: &str| {
+        let scene = Scene::parse(&text(kind), "scene.toml", dir).expect("scene");
+        run_scene(&scene, &quiet(&dir.join(kind))).expect("runs").1
+    };
+    (run("adr"), run("static"))
 }
 
 fn mesh(p: &str) -> String {
@@ -72,12 +82,7 @@ radius = 1e4
 #[test]
 fn static_matches_adr_and_hertz_on_the_stored_tet_sphere() {
     let dir = temp_dir("tet");
-    let run = |kind: &str| {
-        let scene = Scene::parse(&tet_sphere(kind), "tet.toml", &dir).expect("scene");
-        run_scene(&scene, &quiet(&dir.join(kind))).expect("runs").1
-    };
-    let adr = run("adr");
-    let newton = run("static");
+    let (adr, newton) = adr_and_static(&dir, tet_sphere);
     assert!(adr.converged && newton.converged);
     assert_eq!(newton.solver.solver, "static");
     assert!(newton.residual < 1e-4, "{}", newton.residual);
@@ -184,11 +189,7 @@ radius = 1.0
 "#
         )
     };
-    let run = |kind: &str| {
-        let s = Scene::parse(&scene(kind), "driven.toml", &dir).expect("scene");
-        run_scene(&s, &quiet(&dir.join(kind))).expect("runs").1
-    };
-    let (adr, newton) = (run("adr"), run("static"));
+    let (adr, newton) = adr_and_static(&dir, scene);
     assert!(adr.converged && newton.converged);
     let (a, s) = (&adr.solver.increments, &newton.solver.increments);
     assert_eq!(a.len(), 4);
@@ -266,12 +267,7 @@ radius = 100.0
         )
     };
     let dir = temp_dir("loose-master");
-    let run = |kind: &str| {
-        let scene = Scene::parse(&scene(kind), "loose.toml", &dir).expect("scene");
-        run_scene(&scene, &quiet(&dir.join(kind))).expect("runs").1
-    };
-    let adr = run("adr");
-    let newton = run("static");
+    let (adr, newton) = adr_and_static(&dir, scene);
     assert!(adr.converged && newton.converged);
     assert!(
         newton.solver.iterations <= 40,

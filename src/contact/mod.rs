@@ -707,10 +707,7 @@ impl ContactPass {
     /// last Verlet rebuild: it may touch within a step (the slaves that ADR's density and the
     /// static solver's stabilisation weigh).
     pub fn may_touch(&self, k: usize) -> bool {
-        match (self.verlet.offsets.get(k), self.verlet.offsets.get(k + 1)) {
-            (Some(a), Some(b)) => b > a,
-            _ => false,
-        }
+        !self.candidates(k).is_empty()
     }
 
     /// The slave side of [`apply`](Self::apply): the contacts' forces on the slaves and the
