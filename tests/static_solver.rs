@@ -280,3 +280,105 @@ radius = 100.0
     assert!((ps / pa - 1.0).abs() < 1e-3, "peak static {ps} adr {pa}");
     assert!(newton.force_balance_error < 1e-3);
 }
+
+/// The stored gmsh tet4 sphere pressed on a copy of itself turned half a turn (the scene
+/// `validate --mesh meshes/sphere_tet4_h007.msh --partner copy --refine 0` writes), checked
+/// one way (`two_pass = false`), with the solver `kind`: 21,074 particles, both bodies held
+/// sideways by pins and against each other by contact alone.
+fn tet_sphere_on_its_copy(kind: &str) -> String {
+    let c = "-0.00013051085395920925, -0.00012203344278993722";
+    let body = |name: &str, turn: &str| {
+        format!(
+            r#"
+[[body]]
+name = "{name}"
+mesh = "{mesh}"
+{turn}
+kinematics = "small"
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+"#,
+            mesh = mesh("meshes/sphere_tet4_h007.msh")
+        )
+    };
+    let pin = |name: &str, at: String, fix: &str| {
+        format!("[[constraint]]\nbody = \"{name}\"\nnearest = [{at}]\nfix = {fix}\n")
+    };
+    let mut text = format!(
+        "[solver]\nkind = \"{kind}\"\ntolerance = 1e-4\nmax_iterations = 100000\n[output]\nevery = 1000000\n"
+    );
+    text += &body("sphere", "");
+    text += &body(
+        "copy",
+        &format!("rotate = {{ axis = [1.0, 0.0, 0.0], angle_deg = 180.0, center = [{c}, -1.0] }}"),
+    );
+    text += r#"
+[[load]]
+body = "sphere"
+force = [0.0, 0.0, -38400000.0]
+[[load]]
+body = "copy"
+force = [0.0, 0.0, 38400000.0]
+[[contact]]
+slave = "sphere"
+master = "copy"
+two_pass = false
+radius = 10000.0
+"#;
+    for (name, z) in [
+        ("sphere", 0.0),
+        ("sphere", 1.0),
+        ("copy", -2.0),
+        ("copy", -3.0),
+    ] {
+        text += &pin(name, format!("{c}, {z}"), "[\"x\", \"y\"]");
+    }
+    text += &pin(
+        "sphere",
+        "0.4998694891460408, -0.00012203344278993722, 0.0".into(),
+        "[\"y\"]",
+    );
+    text += &pin(
+        "copy",
+        "0.4998694891460408, -0.00012203344278993722, -2.0".into(),
+        "[\"y\"]",
+    );
+    text
+}
+
+/// Where Newton's iterations stall (the contact's rim cycling: each step presses another rim
+/// slave in by a fraction of a millimetre, with a force its bonds do not carry yet), ADR takes
+/// over from the state Newton reached and finishes the increment: the sphere on its copy,
+/// one pass, which the static solver alone did not solve (3,702 Newton iterations and 37
+/// cut-backs without an equilibrium), reaches ADR's equilibrium.
+#[test]
+fn a_stalled_newton_increment_is_finished_by_adr() {
+    let dir = temp_dir("stalled");
+    let (adr, newton) = adr_and_static(&dir, tet_sphere_on_its_copy);
+    assert!(adr.converged && newton.converged);
+    assert!(newton.residual < 1e-4, "{}", newton.residual);
+    let relaxed = newton.solver.relaxation_iterations;
+    assert!(
+        relaxed > 0,
+        "Newton did not stall: the scene no longer tests the hand-over"
+    );
+    // ADR finishes from near the equilibrium: fewer iterations than ADR from the start.
+    assert!(
+        relaxed < adr.iterations,
+        "{relaxed} against ADR's {}",
+        adr.iterations
+    );
+    assert!(newton.iterations < 100, "{}", newton.iterations);
+    let a = 0.3;
+    let (ra, rs) = (adr.contact_radius, newton.contact_radius);
+    assert!((rs - ra).abs() / a < 1e-3, "radius static {rs} adr {ra}");
+    assert!((rs / a - 1.0).abs() < 0.03, "radius {rs}");
+    assert!(
+        newton.force_balance_error < 1e-3,
+        "{}",
+        newton.force_balance_error
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -540,6 +540,8 @@ pub struct RunMonitor {
     /// The static solver's conjugate-gradient iterations so far: its steps are Newton
     /// iterations, each shown ([`Monitor::linear_iterations`]).
     linear: Option<usize>,
+    /// ADR relaxing where the static solver's Newton iterations stalled.
+    relaxing: bool,
 }
 
 /// How often a run whose stderr is not a terminal prints a progress line: every 5 s, or every
@@ -586,6 +588,7 @@ impl RunMonitor {
             last_step: (0, 0.0, 0.0),
             plain,
             linear: None,
+            relaxing: false,
         }
     }
 }
@@ -594,8 +597,11 @@ impl Monitor for RunMonitor {
     fn step(&mut self, model: &Model, step: usize, time: f64, measure: f64) -> Result<()> {
         self.last_step = (step, time, measure);
         // A Newton iteration costs what tens of ADR iterations do: each is shown.
-        let word = if self.linear.is_some() {
+        let newton = self.linear.is_some() && !self.relaxing;
+        let word = if newton {
             "Newton iteration"
+        } else if self.relaxing {
+            "ADR step (Newton stalled)"
         } else {
             "step"
         };
@@ -603,7 +609,7 @@ impl Monitor for RunMonitor {
             self.linear
                 .map_or(String::new(), |n| format!("{sep}linear iterations {n}"))
         };
-        if self.linear.is_some() || step.is_multiple_of(50) {
+        if newton || step.is_multiple_of(50) {
             self.bar.set_message(format!(
                 "{word} {step}  {} {measure:.3e}{}  contacts {}  Verlet rebuilds {}",
                 self.label,
@@ -642,6 +648,10 @@ impl Monitor for RunMonitor {
 
     fn linear_iterations(&mut self, total: usize) {
         self.linear = Some(total);
+    }
+
+    fn relaxation(&mut self, on: bool) {
+        self.relaxing = on;
     }
 
     fn finish(&mut self, model: &Model, step: usize, time: f64) -> Result<()> {

@@ -277,6 +277,10 @@ impl Monitor for Tee<'_> {
         self.run.linear_iterations(total);
         self.observer.linear_iterations(total);
     }
+    fn relaxation(&mut self, on: bool) {
+        self.run.relaxation(on);
+        self.observer.relaxation(on);
+    }
     fn finish(&mut self, model: &Model, step: usize, time: f64) -> Result<()> {
         self.run.finish(model, step, time)?;
         self.observer.finish(model, step, time)

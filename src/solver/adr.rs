@@ -75,7 +75,7 @@ pub(super) fn unbonded_particles(model: &Model, density: &[Vec<f64>]) -> Result<
 }
 
 /// ADR's Gershgorin density of the bonds, per particle: ½ max_α Σ_j w_ij |n_α| ‖n‖₁.
-fn bond_density(model: &Model) -> Vec<Vec<f64>> {
+pub(super) fn bond_density(model: &Model) -> Vec<Vec<f64>> {
     model
         .bodies
         .iter()
@@ -205,7 +205,7 @@ pub fn adr(
 
 /// One ADR relaxation from the current state to equilibrium under the current loads (Eqs.
 /// 27-33), numbering iterations on from `n0`; returns the last iteration's number.
-fn adr_increment(
+pub(super) fn adr_increment(
     model: &mut Model,
     density: &[Vec<f64>],
     tolerance: f64,

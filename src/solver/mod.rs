@@ -74,6 +74,9 @@ pub trait Monitor {
     /// conjugate-gradient iterations of the run so far (the next [`Monitor::step`] reports
     /// the iteration's residual).
     fn linear_iterations(&mut self, _total: usize) {}
+    /// The static solver: ADR takes over from a stalled Newton increment (`true`) and hands
+    /// back (`false`); its iterations come as [`Monitor::step`]s in between.
+    fn relaxation(&mut self, _on: bool) {}
     /// Called once at the end with the last state.
     fn finish(&mut self, model: &Model, step: usize, time: f64) -> Result<()>;
     /// Whether the user asked to stop (Ctrl-C); the solver then writes the last frame and ends.
@@ -125,6 +128,9 @@ pub struct RunStats {
     /// trial).
     #[serde(skip_serializing_if = "is_zero")]
     pub force_evaluations: usize,
+    /// Static: ADR iterations taken where Newton stalled (from the state it stalled at).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub relaxation_iterations: usize,
     /// Static: load steps halved because an increment did not converge.
     #[serde(skip_serializing_if = "is_zero")]
     pub cutbacks: usize,

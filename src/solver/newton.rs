@@ -9,9 +9,13 @@
 //! more conjugate-gradient iterations than the next Newton step can use), then looks along
 //! `d` for the point where the energy's slope `d·S⁻¹R(u + αd)` has fallen to half its value
 //! at `α = 0` (regula falsi, at most [`LINE_SEARCH`] force evaluations; a trial state with a
-//! missed contact is a step too long). An increment that does not reach the tolerance in
-//! [`NEWTON_PER_INCREMENT`] iterations starts again from the last equilibrium with half the
-//! load step, down to [`MIN_STEP`] of the load. Converged, as ADR, when `‖R‖₂` over the free
+//! missed contact is a step too long). An increment whose residual stops falling once its
+//! contacts have settled ([`STALL_WINDOW`]) is handed to ADR from the state Newton reached: between
+//! two deformable bodies the rim of a stiff contact can cycle, each Newton step pressing
+//! another rim slave in with a force its bonds do not carry yet, where ADR's damped steps
+//! settle it (docs/PERFORMANCE.md, "The static solver"). An increment that neither reaches
+//! the tolerance in [`NEWTON_PER_INCREMENT`] iterations nor by ADR starts again from the last
+//! equilibrium with half the load step, down to [`MIN_STEP`] of the load. Converged, as ADR, when `‖R‖₂` over the free
 //! degrees of freedom is below `tolerance · ‖F_applied‖₂` (a run driven by displacements
 //! alone: against the contact forces and the prescribed displacements' reactions).
 //!
@@ -41,6 +45,9 @@ pub const MIN_STEP: f64 = 1.0 / 1024.0;
 pub const MAX_LINEAR: usize = 3_000;
 /// The loosest relative residual of a linear solve.
 const ETA_MAX: f64 = 0.1;
+/// Newton iterations over which an increment whose contacts no longer change must at least
+/// halve its best residual; else it has stalled and ADR takes over ([`stalled`]).
+pub const STALL_WINDOW: usize = 10;
 
 /// Refuses what the static solver does not handle, with the reason and what to use instead.
 fn supported(model: &Model) -> Result<()> {
@@ -238,6 +245,16 @@ fn sound(model: &Model) -> bool {
 struct Counts {
     newton: usize,
     linear: usize,
+    /// ADR iterations where Newton stalled ([`relax`]).
+    relaxed: usize,
+}
+
+impl Counts {
+    /// The run's step number for progress and frames: Newton iterations and ADR's
+    /// relaxation iterations together, so that frames follow one another.
+    fn step(&self) -> usize {
+        self.newton + self.relaxed
+    }
 }
 
 /// How an increment ended.
@@ -306,7 +323,7 @@ pub fn newton(
         // Driven bodies, prescribed displacements and ramped loads along the path.
         model.path.apply(&mut model.bodies, target);
         model.gather();
-        monitor.load_increment(model, target, counts.newton)?;
+        monitor.load_increment(model, target, counts.step())?;
         let outcome = increment(
             model,
             tolerance,
@@ -325,9 +342,9 @@ pub fn newton(
                 model.commit_friction();
                 stats.load_factor = done;
                 stats.converged = true;
-                record_increment(model, done, counts.newton, &mut stats);
+                record_increment(model, done, counts.step(), &mut stats);
                 model.gather();
-                monitor.increment_done(model, done, counts.newton)?;
+                monitor.increment_done(model, done, counts.step())?;
                 step = (step * 2.0).min(nominal);
             }
             Increment::Interrupted => {
@@ -358,8 +375,43 @@ pub fn newton(
     stats.linear_iterations = counts.linear;
     stats.force_evaluations = model.evaluations;
     model.gather();
-    monitor.finish(model, counts.newton, counts.newton as f64)?;
+    monitor.finish(model, counts.step(), counts.step() as f64)?;
     Ok(stats)
+}
+
+/// ADR from the current state under the current loads (an increment whose Newton iterations
+/// stalled: relaxation damps the rim's cycling that Newton's steps feed); true if it reached
+/// the tolerance. Its iterations are counted apart (`relaxation_iterations`).
+fn relax(
+    model: &mut Model,
+    tolerance: f64,
+    monitor: &mut dyn Monitor,
+    counts: &mut Counts,
+    stats: &mut RunStats,
+) -> Result<bool> {
+    let density = super::adr::bond_density(model);
+    let mut relaxed = RunStats::default();
+    let start = counts.step();
+    monitor.relaxation(true);
+    let n = super::adr::adr_increment(
+        model,
+        &density,
+        tolerance,
+        start + super::DEFAULT_MAX_ITERATIONS,
+        start,
+        monitor,
+        &mut relaxed,
+    );
+    monitor.relaxation(false);
+    let n = n?;
+    counts.relaxed += n - start;
+    stats.relaxation_iterations = counts.relaxed;
+    stats.residual = relaxed.residual;
+    stats.interrupted |= relaxed.interrupted;
+    if let Some(u) = relaxed.unheld {
+        stats.unheld = Some(u);
+    }
+    Ok(relaxed.converged)
 }
 
 /// Newton iterations at the current loads from the current state.
@@ -391,14 +443,30 @@ fn increment(
     let mut stabilise = 1.0;
     let mut previous: Option<f64> = None;
     let mut previous_tangent: Option<Tangent> = None;
+    let mut history = Vec::with_capacity(NEWTON_PER_INCREMENT);
     for it in 0..NEWTON_PER_INCREMENT {
         let r = residual(model, &mut rhs);
         let rel = r / reference;
         stats.residual = rel;
-        monitor.step(model, counts.newton, counts.newton as f64, rel)?;
+        monitor.step(model, counts.step(), counts.step() as f64, rel)?;
         if rel < tolerance {
-            check_missed(model, counts.newton, "iteration", None)?;
+            check_missed(model, counts.step(), "iteration", None)?;
             return Ok(Increment::Converged);
+        }
+        history.push((rel, model.contact_count()));
+        // The contact's rim cycles (slaves at the rim of a stiff contact between two
+        // deformable bodies, each Newton step pressing another in by a fraction of a
+        // millimetre with a force its bonds do not carry yet): ADR takes over from here.
+        if stalled(&history) {
+            return Ok(if relax(model, tolerance, monitor, counts, stats)? {
+                Increment::Converged
+            } else if stats.interrupted {
+                Increment::Interrupted
+            } else {
+                Increment::Failed(format!(
+                    "Newton stalled at residual {rel:.3e}, and ADR from there did not reach the tolerance"
+                ))
+            });
         }
         if monitor.interrupted() {
             return Ok(Increment::Interrupted);
@@ -439,6 +507,29 @@ fn increment(
         "{NEWTON_PER_INCREMENT} Newton iterations without reaching the tolerance (residual {:.3e})",
         stats.residual
     )))
+}
+
+/// Whether an increment has stalled, from its relative residuals and contact counts so far:
+/// over the last `2 STALL_WINDOW` iterations the contact count stayed within 4 % (the contact
+/// no longer grows: while it grows ring by ring the residual rises and falls with it), and the
+/// best residual of the last [`STALL_WINDOW`] is not half the best of the ones before.
+/// Measured: a converging increment halves it within two or three iterations once its
+/// contacts settle; one whose rim cycles wanders within a factor of ten for tens of
+/// iterations (docs/PERFORMANCE.md, "The static solver").
+fn stalled(history: &[(f64, usize)]) -> bool {
+    let n = history.len();
+    if n < 2 * STALL_WINDOW {
+        return false;
+    }
+    let recent = &history[n - 2 * STALL_WINDOW..];
+    let (lo, hi) = recent
+        .iter()
+        .fold((usize::MAX, 0), |(lo, hi), &(_, c)| (lo.min(c), hi.max(c)));
+    if hi - lo > (hi / 25).max(2) {
+        return false;
+    }
+    let best = |h: &[(f64, usize)]| h.iter().map(|&(r, _)| r).fold(f64::INFINITY, f64::min);
+    best(&recent[STALL_WINDOW..]) > 0.5 * best(&recent[..STALL_WINDOW])
 }
 
 /// Moves the model along `d` to where the energy's slope `d·S⁻¹R` has fallen to half of `g0`
