@@ -352,7 +352,9 @@ pub fn newton(
                 break;
             }
             Increment::Failed(why) => {
-                if counts.newton >= max_iterations {
+                // ADR, taking over a stalled increment, found a body gone past everything it
+                // touches: as in an ADR run, the scene has no static equilibrium to find.
+                if counts.newton >= max_iterations || stats.unheld.is_some() {
                     stats.converged = false;
                     break;
                 }

@@ -32,7 +32,8 @@ fn interrupted(summary: &pdcontact::run::RunSummary) -> Outcome {
     if summary.interrupted {
         eprintln!(
             "interrupted at step {}: frames so far in {}, summary in {}",
-            summary.iterations,
+            // A static run's steps number its Newton and ADR iterations together.
+            summary.iterations + summary.solver.relaxation_iterations,
             summary.outputs.pvd.display(),
             summary.outputs.summary.display()
         );
