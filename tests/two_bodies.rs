@@ -289,7 +289,7 @@ fn an_lps_sphere_on_a_bond_based_one() {
 }
 
 /// With one pass both solvers converge to the same equilibrium, and the slave's figures are
-/// its mesh's (measured on this pair: ADR 1,202 iterations, static 41 Newton and 332 ADR;
+/// its mesh's (measured on this pair: ADR 1,202 iterations, static 41 Newton and 285 ADR;
 /// upper MRE 4.65 %, radius −1.10 %; two passes 4.29 %, +1.72 %; the upper mesh on a rigid
 /// plane 4.40 %, +1.74 %). The static solver's Newton iterations stall here once the contact
 /// has settled (its rim cycling) and ADR finishes the increment from where they stopped.
