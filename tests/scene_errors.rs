@@ -664,6 +664,20 @@ fn fracture_errors() {
         "displacement = [",
         &["kind = \"adr\"", "velocity"],
     );
+    // A body that cannot break is not its own short-range master: it has no pieces.
+    let own = "\n[[contact]]\nslave = \"block\"\nmaster = \"block\"\nmethod = \"short-range\"\n";
+    let text = format!("{GOOD}{own}");
+    let (path, line) = error_of("pieces-of-a-whole-body", &text);
+    // At the pair's own `slave` line, not the first pair's.
+    let at = text.lines().count() - 2;
+    assert!(
+        line.starts_with(&format!("error: {path}:{at}:1: ")),
+        "{line}"
+    );
+    assert!(
+        line.contains("cannot break") && line.contains("fracture_energy"),
+        "{line}"
+    );
 }
 
 #[test]

@@ -58,6 +58,10 @@ pub struct Fracture {
     family: Vec<f64>,
     /// Bonds broken so far (each real pair once, a bond to a mirror image once).
     pub broken: usize,
+    /// Per particle: the strain energy its bonds held when they broke (J), the work of
+    /// fracture of the energy balance ([`crate::body::PdBody::break_failed`]); a pre-crack's
+    /// bonds, cut before any load, hold none.
+    pub work: Vec<f64>,
 }
 
 impl Fracture {
@@ -103,6 +107,7 @@ impl Fracture {
             lost: vec![0.0; n],
             family,
             broken: 0,
+            work: vec![0.0; n],
         }
     }
 

@@ -337,6 +337,39 @@ impl PdBody {
         }
     }
 
+    /// Breaks the bonds `(i, b)` that failed at the positions `pos` (real particles, then
+    /// images), first booking the strain energy each held on its particles' `work` of
+    /// fracture (only this process's own particles: every rank breaks every failed bond, and
+    /// each books its own), so that the energy balance holds across a break (METHOD.md §9).
+    pub fn break_failed(&mut self, broken: &[(u32, u32)], pos: &[Vec3]) {
+        let Some(fr) = &self.fracture else { return };
+        let n = self.len();
+        let bonds = &self.case.bonds;
+        let mut booked = Vec::with_capacity(2 * broken.len());
+        for &(i, b) in broken {
+            let (i, b) = (i as usize, b as usize);
+            if !fr.intact[b] {
+                continue;
+            }
+            if self.owned.contains(&i) {
+                booked.push((i, self.bond_energy(i, b, pos)));
+            }
+            let j = bonds.partner[b] as usize;
+            if j < n && self.owned.contains(&j) {
+                if let Some(c) = bonds.range(j).find(|&c| bonds.partner[c] as usize == i) {
+                    if fr.intact[c] {
+                        booked.push((j, self.bond_energy(j, c, pos)));
+                    }
+                }
+            }
+        }
+        let fr = self.fracture.as_mut().expect("checked above");
+        for (k, e) in booked {
+            fr.work[k] += e;
+        }
+        self.break_bonds(broken);
+    }
+
     /// Where the body's pre-crack faces have passed through each other: the pair of
     /// particles that crossed deepest, `(precrack, behind, in front, depth)`, the depth how
     /// far the particle in front now lies behind its partner along the normal, m. `None`
@@ -383,22 +416,26 @@ impl PdBody {
         if let Some(lps) = &self.lps {
             return lps.strain_energy_of(&self.case, i, pos, self.stretch());
         }
-        let bonds = &self.case.bonds;
-        let yi = pos[i];
-        bonds
+        self.case
+            .bonds
             .range(i)
-            .map(|b| {
-                let j = bonds.partner[b] as usize;
-                let stretch = match self.kinematics {
-                    Kinematics::Finite => (pos[j] - yi).norm() - bonds.length(b),
-                    Kinematics::Small => {
-                        let xi = self.reference[j] - self.reference[i];
-                        (pos[j] - yi - xi).dot(&xi) / bonds.length(b)
-                    }
-                };
-                0.25 * f64::from(self.bond_weight[b]) * stretch * stretch
-            })
+            .map(|b| self.bond_energy(i, b, pos))
             .sum::<f64>()
+    }
+
+    /// The share `¼ w (|y| − L)²` of particle `i`'s directed bond `b` in its strain energy
+    /// (bond-based), at the positions `pos`.
+    fn bond_energy(&self, i: usize, b: usize, pos: &[Vec3]) -> f64 {
+        let bonds = &self.case.bonds;
+        let j = bonds.partner[b] as usize;
+        let stretch = match self.kinematics {
+            Kinematics::Finite => (pos[j] - pos[i]).norm() - bonds.length(b),
+            Kinematics::Small => {
+                let xi = self.reference[j] - self.reference[i];
+                (pos[j] - pos[i] - xi).dot(&xi) / bonds.length(b)
+            }
+        };
+        0.25 * f64::from(self.bond_weight[b]) * stretch * stretch
     }
 
     /// Kinetic energy `½ m v²` of particle `i`.

@@ -33,6 +33,7 @@
 mod broad;
 mod crack;
 pub mod estimate;
+pub mod fragments;
 pub mod friction;
 mod law;
 mod narrow;

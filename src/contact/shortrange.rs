@@ -98,6 +98,10 @@ pub struct ShortRangePass {
     /// normal. They went through the surface within a step (too fast for the step) or were
     /// pushed through it (a load the repulsion cannot hold).
     pub missed: usize,
+    /// The deepest a slave particle has gone into the master's surface over the run (m):
+    /// `(Δ_s + Δ_m)/2 − |y|` of the nearest pair, each particle standing for a cell of its
+    /// body's spacing (negative: the repulsion kept them apart).
+    pub deepest: f64,
     /// Sum of the overlap energies `½ k (d − |y|)²` of the slave side's pairs (J).
     pub energy: f64,
     /// Total force on the slave from the master in the last evaluation (N).
@@ -118,6 +122,30 @@ struct Side {
     normal: Vec<Vec3>,
 }
 
+/// Whether bonds of `b` fail during a run.
+fn breaks(b: &PdBody) -> bool {
+    b.fracture
+        .as_ref()
+        .is_some_and(|f| f.critical_stretch.is_some())
+}
+
+/// Whether particle `i` of `b` is on a surface now: the outer surface, or (where bonds fail)
+/// a new one, having lost a bond. A particle of a new surface has no outward normal (zero),
+/// so it is never found behind the other body's surface.
+fn exposed(b: &PdBody, i: usize) -> bool {
+    b.case.surface.is_surface[i] || (breaks(b) && b.damage(i) > 0.0)
+}
+
+/// The outward normal of surface particle `i` now ([`slave_normal`]); none (zero) where it
+/// has lost a bond in a run, since a broken surface has no outward side to be behind.
+fn normal(b: &PdBody, i: usize) -> Vec3 {
+    if breaks(b) && b.damage(i) > 0.0 {
+        Vec3::zeros()
+    } else {
+        slave_normal(b, i)
+    }
+}
+
 fn side(b: &PdBody, surface: &[u32]) -> Side {
     let g = &b.case.ghosts;
     let vol = &b.case.particles.volume;
@@ -126,17 +154,17 @@ fn side(b: &PdBody, surface: &[u32]) -> Side {
         volume: Vec::new(),
         normal: Vec::new(),
     };
-    for &i in surface {
+    for &i in surface.iter().filter(|&&i| exposed(b, i as usize)) {
         s.pos.push(b.position(i as usize));
         s.volume.push(vol[i as usize] / g.share(i as usize));
-        s.normal.push(slave_normal(b, i as usize));
+        s.normal.push(normal(b, i as usize));
     }
     let is_surface = &b.case.surface.is_surface;
     for (&src, &mask) in g.source.iter().zip(&g.mask) {
-        if is_surface[src as usize] {
+        if is_surface[src as usize] || (breaks(b) && b.damage(src as usize) > 0.0) {
             s.pos.push(g.reflect(b.position(src as usize), mask));
             s.volume.push(vol[src as usize] / g.share(src as usize));
-            let n = slave_normal(b, src as usize);
+            let n = normal(b, src as usize);
             s.normal
                 .push(g.reflect(n, mask) - g.reflect(Vec3::zeros(), mask));
         }
@@ -151,9 +179,11 @@ impl ShortRangePass {
         let mb = bodies[master]
             .as_pd()
             .expect("short-range master is deformable (checked by the scene)");
+        // A body whose bonds fail may show any particle on a new surface: all take part, those
+        // exposed at the evaluation ([`exposed`]).
         let surface = |b: &PdBody| -> Vec<u32> {
             (0..b.len() as u32)
-                .filter(|&i| b.case.surface.is_surface[i as usize])
+                .filter(|&i| breaks(b) || b.case.surface.is_surface[i as usize])
                 .collect()
         };
         let slaves = surface(sb);
@@ -172,6 +202,7 @@ impl ShortRangePass {
             touching: 0,
             touched: 0,
             missed: 0,
+            deepest: f64::NEG_INFINITY,
             energy: 0.0,
             slave_force: Vec3::zeros(),
         }
@@ -232,13 +263,16 @@ impl ShortRangePass {
     /// Forces on the particles `own` of body `a` from the surface particles of `other`, and
     /// per particle the stiffness of every pair within `d` plus the skin (which may close
     /// within a step). Returns (force, stiffness, energy) per particle.
-    fn one_side(&self, a: &PdBody, own: &[u32], other: &Side) -> Vec<(Vec3, f64, f64, bool)> {
+    fn one_side(&self, a: &PdBody, own: &[u32], other: &Side) -> Vec<(Vec3, f64, f64, bool, f64)> {
         let d = self.distance;
         let reach = d + SKIN * a.spacing();
         let grid = CellGrid::new(&other.pos, reach);
         let vol = &a.case.particles.volume;
         own.par_iter()
             .map(|&i| {
+                if !exposed(a, i as usize) {
+                    return (Vec3::zeros(), 0.0, 0.0, false, f64::INFINITY);
+                }
                 let p = a.position(i as usize);
                 let v_i = vol[i as usize];
                 let (mut f, mut k, mut e) = (Vec3::zeros(), 0.0, 0.0);
@@ -260,7 +294,7 @@ impl ShortRangePass {
                         }
                     }
                 });
-                (f, k, e, nearest.1)
+                (f, k, e, nearest.1, nearest.0.sqrt())
             })
             .collect()
     }
@@ -275,6 +309,9 @@ impl ShortRangePass {
         self.touching = on_slave.iter().filter(|r| r.0 != Vec3::zeros()).count();
         self.touched = on_master.iter().filter(|r| r.0 != Vec3::zeros()).count();
         self.missed = on_slave.iter().filter(|r| r.3).count();
+        let touch = 0.5 * (sb.spacing() + mb.spacing());
+        let nearest = on_slave.iter().map(|r| r.4).fold(f64::INFINITY, f64::min);
+        self.deepest = self.deepest.max(touch - nearest);
         self.slave_out = on_slave.iter().map(|r| (r.0, r.1, r.2)).collect();
         self.master_out = on_master.iter().map(|r| (r.0, r.1)).collect();
         // Summed block by block, so that a decomposed run (which adds every rank's blocks in

@@ -479,6 +479,31 @@ impl Domain {
                 }
             }
         }
+        // The work of fracture, where a body's bonds may fail.
+        if bodies
+            .iter()
+            .any(|b| b.as_pd().is_some_and(|pd| pd.fracture.is_some()))
+        {
+            let mut mine = Vec::new();
+            for (k, body) in bodies.iter().enumerate() {
+                let Some(f) = body.as_pd().and_then(|pd| pd.fracture.as_ref()) else {
+                    continue;
+                };
+                mine.extend(&f.work[self.ranges[k][rank].clone()]);
+            }
+            let all = self.comm.all_gather_varcount(&mine);
+            for (q, part) in all.iter().enumerate() {
+                let mut values = part.iter();
+                for (k, body) in bodies.iter_mut().enumerate() {
+                    let Some(f) = body.as_pd_mut().and_then(|pd| pd.fracture.as_mut()) else {
+                        continue;
+                    };
+                    for i in self.ranges[k][q].clone() {
+                        f.work[i] = *values.next().expect("every owner sends its whole range");
+                    }
+                }
+            }
+        }
         // Friction's forces and states, where a body has them.
         if !bodies
             .iter()

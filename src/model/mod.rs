@@ -17,6 +17,7 @@ use crate::body::lps::Stretch;
 use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
 use crate::case::pairs::{pair_forces, PairKinematics};
 use crate::contact::estimate::{resolve, ContactResolution, ContactSurface};
+use crate::contact::fragments::FragmentPass;
 use crate::contact::shortrange::ShortRangePass;
 use crate::contact::{default_radius, hertz_stiffness, ContactLaw, ContactPass, WINDOW};
 use crate::error::Result;
@@ -31,6 +32,9 @@ pub struct Model {
     pub passes: Vec<ContactPass>,
     /// Pairs resolved by the short-range method.
     pub short_range: Vec<ShortRangePass>,
+    /// The repulsion between the pieces of breaking bodies (a body its own short-range
+    /// master, [`crate::contact::fragments`]).
+    pub fragments: Vec<FragmentPass>,
     /// Force evaluations so far.
     pub evaluations: usize,
     /// Scratch: current positions of each deformable body.
@@ -135,12 +139,17 @@ impl Model {
 
         let mut passes = Vec::new();
         let mut short_range = Vec::new();
+        let mut fragments = Vec::new();
         for c in &scene.contacts {
             let (Some(s), Some(m)) = (index(&c.slave), index(&c.master)) else {
                 continue;
             };
             if c.method == ContactMethod::ShortRange {
-                short_range.push(ShortRangePass::new(&bodies, s, m));
+                if s == m {
+                    fragments.push(FragmentPass::new(&bodies, s));
+                } else {
+                    short_range.push(ShortRangePass::new(&bodies, s, m));
+                }
                 continue;
             }
             let add = |s: usize, m: usize, weight: f64, bodies: &[Body]| {
@@ -201,6 +210,7 @@ impl Model {
             bodies,
             passes,
             short_range,
+            fragments,
             evaluations: 0,
             positions,
             domain: None,
@@ -267,6 +277,12 @@ impl Model {
             return Err(crate::error::Error::input(format!(
                 "contact between the faces of \"{}\"'s pre-cracks runs in one process for now: run the scene without mpirun",
                 self.bodies[p.slave].name()
+            )));
+        }
+        if let Some(p) = self.fragments.first() {
+            return Err(crate::error::Error::input(format!(
+                "contact between the pieces of \"{}\" (its own short-range master) runs in one process for now: run the scene without mpirun",
+                self.bodies[p.body].name()
             )));
         }
         let domain = Domain::new(&self.bodies, &self.passes, &self.short_range, comm);
@@ -431,6 +447,9 @@ impl Model {
         for pass in &mut self.short_range {
             pass.detect(&self.bodies);
         }
+        for pass in &mut self.fragments {
+            pass.detect(&self.bodies);
+        }
         match &mut self.domain {
             Some(d) => d.apply_contact(&mut self.bodies, &mut self.passes),
             None => {
@@ -440,6 +459,9 @@ impl Model {
             }
         }
         for pass in &self.short_range {
+            pass.apply(&mut self.bodies);
+        }
+        for pass in &self.fragments {
             pass.apply(&mut self.bodies);
         }
         if let Some(d) = &self.domain {
@@ -468,7 +490,8 @@ impl Model {
 
     /// Contacts found in the last evaluation.
     pub fn contact_count(&self) -> usize {
-        let short: usize = self.short_range.iter().map(|p| p.touching).sum();
+        let short: usize = self.short_range.iter().map(|p| p.touching).sum::<usize>()
+            + self.fragments.iter().map(|p| p.touching).sum::<usize>();
         if let Some(d) = &self.domain {
             return d.contacts.iter().sum::<usize>() + short;
         }
@@ -537,7 +560,7 @@ fn internal_forces_with(
     {
         let failed = all_failed(fr.failing(&pd.case.bonds, pos, &pd.reference, pd.owned.clone()));
         if !failed.is_empty() {
-            pd.break_bonds(&failed);
+            pd.break_failed(&failed, pos);
         }
     }
     let kinematics = match pd.kinematics {

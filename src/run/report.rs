@@ -154,6 +154,12 @@ pub struct FractureReport {
     /// the sizes of the largest five.
     pub fragments: usize,
     pub largest_fragments: Vec<usize>,
+    /// The strain energy the broken bonds held when they broke (J; pre-cracks' none).
+    pub fracture_work: f64,
+    /// Where the body is its own short-range master ([`crate::contact::fragments`]): the
+    /// deepest any of its particles went into another piece's surface over the run, in Δ.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub deepest_between_pieces: Option<f64>,
 }
 
 /// The [`FractureReport`] of each body with a failure state.
@@ -161,8 +167,9 @@ pub fn fracture_reports(model: &Model) -> Vec<FractureReport> {
     model
         .bodies
         .iter()
-        .filter_map(Body::as_pd)
-        .filter_map(|pd| {
+        .enumerate()
+        .filter_map(|(k, b)| Some((k, b.as_pd()?)))
+        .filter_map(|(k, pd)| {
             let f = pd.fracture.as_ref()?;
             let damage: Vec<f64> = (0..pd.len()).map(|i| f.damage(i)).collect();
             let fragments = f.fragments(&pd.case.bonds);
@@ -174,6 +181,12 @@ pub fn fracture_reports(model: &Model) -> Vec<FractureReport> {
                 max_damage: damage.iter().copied().fold(0.0, f64::max),
                 fragments: fragments.len(),
                 largest_fragments: fragments.into_iter().take(5).collect(),
+                fracture_work: f.work.iter().sum(),
+                deepest_between_pieces: model
+                    .fragments
+                    .iter()
+                    .find(|p| p.body == k)
+                    .map(|p| p.deepest.max(0.0)),
             })
         })
         .collect()

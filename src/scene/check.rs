@@ -374,7 +374,17 @@ impl Scene {
                 }
             }
             if c.slave == c.master {
-                self.check_self_contact(c, &err)?;
+                // At the key within this pair's block (its body's name is in others too).
+                let start = text
+                    .match_indices("[[contact]]")
+                    .nth(k)
+                    .map_or(0, |(p, _)| p);
+                let in_block = |needle: &str, msg: String| {
+                    let at = text[start..].find(needle).map_or(start, |p| start + p);
+                    let (l, c) = super::line_col(text, at);
+                    Error::input(format!("{}:{l}:{c}: {msg}", self.source))
+                };
+                self.check_self_contact(c, &in_block)?;
             }
             if s.kind == BodyKind::Rigid {
                 return Err(err(

@@ -121,29 +121,40 @@ impl Scene {
 }
 
 impl Scene {
-    /// A `[[contact]]` whose slave and master are one body: the faces of that body's
-    /// pre-cracks pressed together ([`crate::case::crack_faces`]). It needs a pre-crack, the
-    /// point-to-surface method, and no friction yet; `err` points at a key of the block.
+    /// A `[[contact]]` whose slave and master are one body: with the short-range method the
+    /// pieces of a body whose bonds fail ([`crate::contact::fragments`]); otherwise the faces
+    /// of that body's pre-cracks pressed together ([`crate::case::crack_faces`]), which needs
+    /// a pre-crack and no friction yet; `err` points at a key of the block.
     pub(super) fn check_self_contact(
         &self,
         c: &super::ContactSpec,
         err: &dyn Fn(&str, String) -> Error,
     ) -> Result<()> {
         let slave = format!("slave = \"{}\"", c.slave);
+        if c.method == super::ContactMethod::ShortRange {
+            let breaks = self
+                .bodies
+                .iter()
+                .find(|b| b.name == c.slave)
+                .and_then(|b| b.material.as_ref())
+                .is_some_and(|m| m.fracture_energy.is_some() || m.critical_stretch.is_some());
+            if breaks || self.precracks.iter().any(|p| p.body == c.slave) {
+                return Ok(());
+            }
+            return Err(err(
+                &slave,
+                format!(
+                    "contact pair names body \"{}\" as both slave and master with the short-range method: that keeps the pieces of a breaking body apart, and \"{}\" cannot break (give its material fracture_energy or critical_stretch, or a [[precrack]])",
+                    excerpt(&c.slave),
+                    excerpt(&c.slave)
+                ),
+            ));
+        }
         if !self.precracks.iter().any(|p| p.body == c.slave) {
             return Err(err(
                 &slave,
                 format!(
                     "contact pair names body \"{}\" as both slave and master: a body is its own master only across the faces of its pre-cracks, and it has no [[precrack]] (contact between two bodies names two)",
-                    excerpt(&c.slave)
-                ),
-            ));
-        }
-        if c.method == super::ContactMethod::ShortRange {
-            return Err(err(
-                "method",
-                format!(
-                    "the faces of \"{}\"'s pre-cracks are pressed together by the point-to-surface method; the short-range method is between two bodies",
                     excerpt(&c.slave)
                 ),
             ));

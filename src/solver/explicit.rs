@@ -2,7 +2,9 @@
 //! tightened for contact, the energy balance that catches a run that blows up, and the
 //! mass-proportional damping that lets an explicit run settle to the static state.
 
-use super::{check_finite, check_missed, free_factor, Monitor, RunStats, DEFAULT_SAFETY};
+use super::{
+    check_finite, check_missed, free_factor, EnergyTerms, Monitor, RunStats, DEFAULT_SAFETY,
+};
 use crate::body::{Body, PdBody};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
@@ -45,6 +47,11 @@ pub fn stable_time_step(model: &Model) -> f64 {
             }
             for p in &model.short_range {
                 for (c, b) in contact.iter_mut().zip(p.stiffness_bound(k, pd)) {
+                    *c += b;
+                }
+            }
+            for p in model.fragments.iter().filter(|p| p.body == k) {
+                for (c, b) in contact.iter_mut().zip(p.stiffness_bound(pd)) {
                     *c += b;
                 }
             }
@@ -126,29 +133,34 @@ fn highest_eigenvalue(pd: &PdBody, contact: &[f64]) -> f64 {
     (1.05 * lambda).min(gershgorin)
 }
 
-/// Total energy: kinetic + strain + contact − work of constant applied loads − work done by
-/// moving rigid bodies (accumulated by the caller), and the energy damping removed
-/// (`dissipated`, per body and particle). The particles' terms (a contact's energy on its
-/// slave) are summed block by block of particles in a fixed order, so that the thread and
-/// rank counts do not change their bits; the rigid bodies' (replicated on every rank) once.
-fn energies(model: &Model, dissipated: &[Vec<f64>]) -> (f64, f64, f64) {
+/// The energy's terms ([`EnergyTerms`]) but the rigid bodies' driven work, which the caller
+/// accumulates: kinetic, strain, contact, the work of constant applied loads, the energy
+/// damping removed (`dissipated`, per body and particle) with the work friction dissipated,
+/// and the work of fracture. The particles' terms (a contact's energy on its slave) are
+/// summed block by block of particles in a fixed order, so that the thread and rank counts
+/// do not change their bits; the rigid bodies' (replicated on every rank) once.
+fn energies(model: &Model, dissipated: &[Vec<f64>]) -> EnergyTerms {
     let mut contact: Vec<Vec<f64>> = vec![Vec::new(); model.bodies.len()];
-    for p in model.passes.iter().filter(|p| !p.contacts.is_empty()) {
-        let e = &mut contact[p.slave];
-        if e.is_empty() {
-            e.resize(model.bodies[p.slave].as_pd().map_or(0, PdBody::len), 0.0);
+    let mut book = |k: usize, i: usize, e: f64| {
+        let c = &mut contact[k];
+        if c.is_empty() {
+            c.resize(model.bodies[k].as_pd().map_or(0, PdBody::len), 0.0);
         }
+        c[i] += e;
+    };
+    for p in model.passes.iter().filter(|p| !p.contacts.is_empty()) {
         for c in &p.contacts {
-            e[c.slave as usize] += p.energy(c);
+            book(p.slave, c.slave as usize, p.energy(c));
         }
     }
     for p in &model.short_range {
-        let e = &mut contact[p.slave];
-        if e.is_empty() {
-            e.resize(model.bodies[p.slave].as_pd().map_or(0, PdBody::len), 0.0);
-        }
         for (s, energy) in p.slave_energies() {
-            e[s as usize] += energy;
+            book(p.slave, s as usize, energy);
+        }
+    }
+    for p in &model.fragments {
+        for (s, energy) in p.energies() {
+            book(p.body, s as usize, energy);
         }
     }
     // The work friction has dissipated, on each slave (committed steps, and this step's).
@@ -162,42 +174,52 @@ fn energies(model: &Model, dissipated: &[Vec<f64>]) -> (f64, f64, f64) {
             e[s as usize] += w;
         }
     }
+    const TERMS: usize = 6;
     let mut mine = Vec::new();
     let mut pos = Vec::new();
     for (k, b) in model.bodies.iter().enumerate() {
         let Body::Deformable(pd) = b else { continue };
         pd.extended_positions(&mut pos);
         let (contact, dissipated, slid) = (&contact[k], &dissipated[k], &slid[k]);
+        let work = pd.fracture.as_ref().map(|f| &f.work);
         let blocks = block_sums(
             pd.owned.clone(),
-            || [0.0; 3],
+            || [0.0; TERMS],
             |i| {
                 [
-                    pd.kinetic_energy_of(i)
-                        + pd.strain_energy_of(i, &pos)
-                        + contact.get(i).copied().unwrap_or(0.0),
+                    pd.kinetic_energy_of(i),
+                    pd.strain_energy_of(i, &pos),
+                    contact.get(i).copied().unwrap_or(0.0),
                     pd.load[i].dot(&pd.u[i]),
                     dissipated.get(i).copied().unwrap_or(0.0) + slid.get(i).copied().unwrap_or(0.0),
+                    work.map_or(0.0, |w| w[i]),
                 ]
             },
-            add3,
+            |a, b| std::array::from_fn(|t| a[t] + b[t]),
         );
         mine.extend(blocks.iter().flatten());
     }
-    let (sums, _) = model.sum_blocks(mine, 3, 0);
-    let total = sums
+    let (sums, _) = model.sum_blocks(mine, TERMS, 0);
+    let t = sums
         .iter()
-        .fold([0.0; 3], |a, s| add3(a, [s[0], s[1], s[2]]));
-    let (mut physical, mut work) = (total[0], total[1]);
+        .fold([0.0; TERMS], |a, s| std::array::from_fn(|k| a[k] + s[k]));
+    let mut e = EnergyTerms {
+        kinetic: t[0],
+        strain: t[1],
+        contact: t[2],
+        work: t[3],
+        dissipated: t[4],
+        fracture: t[5],
+    };
     for b in &model.bodies {
         if let Body::Rigid(rb) = b {
             if rb.motion == Motion::Free {
-                physical += 0.5 * rb.mass * rb.axial_speed * rb.axial_speed;
-                work += rb.load.dot(&rb.axis) * rb.translation.dot(&rb.axis);
+                e.kinetic += 0.5 * rb.mass * rb.axial_speed * rb.axial_speed;
+                e.work += rb.load.dot(&rb.axis) * rb.translation.dot(&rb.axis);
             }
         }
     }
-    (physical, work, total[2])
+    e
 }
 
 fn add3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -257,8 +279,10 @@ pub fn explicit(
 
     model.compute_forces();
     model.commit_friction();
-    let (e0_phys, w0, _) = energies(model, &dissipated);
-    let mut e0 = e0_phys - w0;
+    let start = energies(model, &dissipated);
+    let e0_phys = start.physical();
+    let mut e0 = e0_phys - start.work;
+    let mut last = start;
     let mut rigid_work = 0.0;
     let mut e_scale = e0_phys.abs();
     let mut touched = false;
@@ -389,9 +413,11 @@ pub fn explicit(
             )));
         }
         if step.is_multiple_of(check_every) || step == steps {
-            let (phys, work, dissipated) = energies(model, &dissipated);
-            e_scale = e_scale.max(phys.abs());
-            let total = phys - work - rigid_work + dissipated;
+            let mut now = energies(model, &dissipated);
+            now.work += rigid_work;
+            e_scale = e_scale.max(now.physical().abs());
+            let total = now.total();
+            last = now;
             if step == check_every && e0 == 0.0 {
                 e0 = total;
             }
@@ -428,6 +454,7 @@ pub fn explicit(
         }
     }
     stats.converged = !stats.interrupted;
+    stats.energy = Some([start, last]);
     model.gather();
     monitor.finish(model, step, stats.time)?;
     Ok(stats)

@@ -113,6 +113,9 @@ pub struct RunStats {
     pub stable_dt: f64,
     /// Explicit: largest relative drift of the total energy, measured every check.
     pub energy_drift: f64,
+    /// Explicit: the energy's terms at the start and at the end (J).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy: Option<[EnergyTerms; 2]>,
     /// Explicit: contact force was seen, then fell back to zero (the body bounced off).
     pub rebounded: bool,
     /// The run was interrupted by the user.
@@ -141,6 +144,33 @@ pub struct RunStats {
     /// state at the end of each increment, the points of a load-displacement curve.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub increments: Vec<Increment>,
+}
+
+/// The terms of an explicit run's energy balance at one instant (J): what the bodies hold
+/// (`kinetic + strain + contact`) less the work done on them (`work`) plus what left the
+/// mechanics (`dissipated` by damping and friction, `fracture`: the strain energy broken
+/// bonds held when they broke) stays what it was at the start.
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct EnergyTerms {
+    pub kinetic: f64,
+    pub strain: f64,
+    pub contact: f64,
+    /// Work of the applied loads and of driven rigid bodies.
+    pub work: f64,
+    pub dissipated: f64,
+    pub fracture: f64,
+}
+
+impl EnergyTerms {
+    /// What the bodies hold.
+    pub fn physical(&self) -> f64 {
+        self.kinetic + self.strain + self.contact
+    }
+
+    /// The conserved total: `physical − work + dissipated + fracture`.
+    pub fn total(&self) -> f64 {
+        self.physical() - self.work + self.dissipated + self.fracture
+    }
 }
 
 /// One load increment's end under displacement control.

@@ -57,7 +57,7 @@ fn supported(model: &Model) -> Result<()> {
             "the static solver runs in one process (its conjugate-gradient solves are not yet decomposed over MPI ranks): run it without mpirun, or use kind = \"adr\" under mpirun".to_string(),
         ));
     }
-    if !model.short_range.is_empty() {
+    if !model.short_range.is_empty() || !model.fragments.is_empty() {
         return Err(Error::input(
             "the static solver has the tangent of the point-to-surface contact only: use method = \"point-to-surface\" in every [[contact]], or kind = \"adr\" for the short-range method".to_string(),
         ));

@@ -162,9 +162,14 @@ pub(crate) enum Command {
         #[arg(long, value_enum, default_value_t = FractureCase::Beam)]
         case: FractureCase,
         /// Grid spacing Δ, m, the horizon 3Δ [default: 0.002 for the beam, whose notch is 20 mm
-        /// deep; 0.0015 for the plate; 0.05 for the cracked block].
+        /// deep; 0.0015 for the Kalthoff plate; 0.05 for the cracked block; 0.0005 for the perforated
+        /// plate].
         #[arg(long)]
         spacing: Option<f64>,
+        /// The perforated plate as a mesh (a 20 × 20 × 2 mm box, `tools/gmsh_plate.py`)
+        /// instead of the box generator; --spacing is then the ball's.
+        #[arg(long)]
+        plate_mesh: Option<PathBuf>,
         /// The beam's thickness B, m.
         #[arg(long, default_value_t = 0.008)]
         thickness: f64,
@@ -462,4 +467,7 @@ pub(crate) enum FractureCase {
     /// A block cut through and compressed, the cut's faces pressed together, against the
     /// block whole; and the block cut at 30° to the load.
     Closing,
+    /// A steel ball fired at 100 m/s through a brittle plate (explicit): fragments, how deep
+    /// one went into another, the energy balance.
+    Perforation,
 }

@@ -124,6 +124,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
         Command::Fracture {
             case,
             spacing,
+            plate_mesh,
             thickness,
             displacement,
             steps,
@@ -135,6 +136,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 FractureCase::Beam => 0.002,
                 FractureCase::Kalthoff => 0.0015,
                 FractureCase::Closing => 0.05,
+                FractureCase::Perforation => 0.0005,
             });
             for (what, v) in [
                 ("--spacing", spacing),
@@ -150,6 +152,22 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             }
             if case == FractureCase::Closing {
                 let r = pdcontact::studies::fracture::run_closing(spacing, &output, quiet)?;
+                print_report(json, &r, || r.to_text());
+                return Ok(Outcome::Done);
+            }
+            if plate_mesh.is_some() && case != FractureCase::Perforation {
+                return Err(Error::input(
+                    "--plate-mesh is the perforated plate's (--case perforation)",
+                ));
+            }
+            if case == FractureCase::Perforation {
+                let r = pdcontact::studies::fracture::run_perforation(
+                    spacing,
+                    plate_mesh.as_deref(),
+                    500,
+                    &output,
+                    quiet,
+                )?;
                 print_report(json, &r, || r.to_text());
                 return Ok(Outcome::Done);
             }
