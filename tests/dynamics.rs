@@ -74,6 +74,16 @@ fn explicit_drop_conserves_energy() {
         "energy drift {}",
         summary.solver.energy_drift
     );
+    // The energy's terms at the start and the end balance too, and `run`'s last line says so.
+    let [start, end] = summary.solver.energy.expect("an explicit run's energy");
+    assert!(start.kinetic > 0.0 && end.fracture == 0.0);
+    let at_end = (end.total() - start.total()).abs() / start.total().abs();
+    assert!(at_end < 0.01, "{at_end}");
+    let line = summary.result_line();
+    assert!(
+        line.contains("steps to t = ") && line.contains(" J: drift "),
+        "{line}"
+    );
     // An elastic bounce: the sphere leaves at (nearly) the speed it came with.
     let pd = model.bodies[0].as_pd().expect("deformable");
     let momentum: f64 = pd.v.iter().zip(&pd.mass).map(|(v, m)| v.z * m).sum();

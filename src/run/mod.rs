@@ -113,6 +113,72 @@ pub struct RunSummary {
     pub error: Option<String>,
 }
 
+impl RunSummary {
+    /// The line `run` ends with: for a quasi-static run its iterations, residual, contacts
+    /// and force balance; for an explicit one its steps and time, contacts and energy balance
+    /// (the terms at the end against what the run started with, the work of fracture among
+    /// them where bonds broke), and what broke.
+    pub fn result_line(&self) -> String {
+        let s = &self.solver;
+        let head = match (&s.energy, s.solver.as_str()) {
+            (Some([start, end]), "explicit") => {
+                let mut terms = format!(
+                    "kinetic {:.4e}, strain {:.4e}, contact {:.4e}",
+                    end.kinetic, end.strain, end.contact
+                );
+                for (name, v) in [
+                    ("work done", end.work),
+                    ("dissipated", end.dissipated),
+                    ("work of fracture", end.fracture),
+                ] {
+                    if v != 0.0 {
+                        terms.push_str(&format!(", {name} {v:.4e}"));
+                    }
+                }
+                format!(
+                    "{} steps to t = {:.4e} s, {} contacts; energy {:.4e} J at the start, now {terms} J: drift {:.2} %",
+                    self.iterations,
+                    s.time,
+                    self.contact_pairs,
+                    start.total(),
+                    100.0 * s.energy_drift
+                )
+            }
+            _ => {
+                let relaxed = match s.relaxation_iterations {
+                    0 => String::new(),
+                    n => format!(" (and {n} ADR iterations where Newton stalled)"),
+                };
+                format!(
+                    "{} iterations{relaxed}, residual {:.3e}, {} contacts, force balance error {:.3e}",
+                    self.iterations, self.residual, self.contact_pairs, self.force_balance_error
+                )
+            }
+        };
+        let broke: Vec<String> = self
+            .fracture
+            .iter()
+            .filter(|f| f.broken_bonds > 0)
+            .map(|f| {
+                format!(
+                    "\"{}\" {} bonds broken, {} pieces",
+                    f.body, f.broken_bonds, f.fragments
+                )
+            })
+            .collect();
+        let broke = if broke.is_empty() {
+            String::new()
+        } else {
+            format!("; {}", broke.join(", "))
+        };
+        format!(
+            "{head}{broke}, {:.1} s; frames in {}",
+            self.wall_seconds,
+            self.outputs.pvd.display()
+        )
+    }
+}
+
 /// Reaction and balance figures of the current state.
 pub fn force_balance(model: &Model) -> (Vec3, Vec3, f64) {
     let applied = model.applied_load();

@@ -475,19 +475,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             if json {
                 println!("{}", to_json(&summary));
             } else if !quiet {
-                let relaxed = match summary.solver.relaxation_iterations {
-                    0 => String::new(),
-                    n => format!(" (and {n} ADR iterations where Newton stalled)"),
-                };
-                eprintln!(
-                    "{} iterations{relaxed}, residual {:.3e}, {} contacts, force balance error {:.3e}, {:.1} s; frames in {}",
-                    summary.iterations,
-                    summary.residual,
-                    summary.contact_pairs,
-                    summary.force_balance_error,
-                    summary.wall_seconds,
-                    summary.outputs.pvd.display()
-                );
+                eprintln!("{}", summary.result_line());
                 if let Some(a) = &summary.accuracy {
                     eprintln!("{}", a.line());
                 }
