@@ -24,7 +24,10 @@
 //! contact as a whole and leaves the pressure distribution alone.
 //!
 //! Only the surface particles of the two bodies take part (an interior particle cannot come
-//! within `d` of the other body without a surface particle doing so first). The master must be
+//! within `d` of the other body without a surface particle doing so first); of a body whose
+//! bonds fail, also every particle that has lost a bond, since it may lie on a face the run
+//! opened (a projectile meets the walls of its hole: docs/FRACTURE.md, "Fragments"). Those
+//! have no outward normal and are never found behind the other body's surface. The master must be
 //! deformable: a rigid body has no particles (the scene refuses a rigid master). Mirror images
 //! of symmetry planes take part, so that a half or quarter model carries the force of the whole.
 //!
@@ -262,7 +265,8 @@ impl ShortRangePass {
 
     /// Forces on the particles `own` of body `a` from the surface particles of `other`, and
     /// per particle the stiffness of every pair within `d` plus the skin (which may close
-    /// within a step). Returns (force, stiffness, energy) per particle.
+    /// within a step). Returns per particle its force, stiffness and energy, whether it lies
+    /// behind the nearest surface particle of `other`, and the distance to that one.
     fn one_side(&self, a: &PdBody, own: &[u32], other: &Side) -> Vec<(Vec3, f64, f64, bool, f64)> {
         let d = self.distance;
         let reach = d + SKIN * a.spacing();
