@@ -1,14 +1,15 @@
-//! Fragments (docs/FRACTURE.md, "Contact on new surfaces"): a steel ball fired through a
+//! Fragments (docs/FRACTURE.md, "Contact on new surfaces", "Fragments"): a steel ball fired through a
 //! brittle plate, explicit, after Silling & Askari (2005)'s sphere through a brittle target.
 //!
 //! The scene (our own, stated): a square plate 20 × 20 × 2 mm of a glassy polymer
 //! (E = 3 GPa, ν = 1/4, ρ = 1190 kg/m³, G0 = 400 J/m², near PMMA's), free at its edges; a
 //! steel ball of 6 mm diameter (E = 200 GPa, ρ = 7800 kg/m³, elastic) at 100 m/s normal to the
 //! plate at its middle, starting 1.5 Δ above it (1.5 mm above a meshed plate), clear of the
-//! contact's reach. The ball and the plate meet through the
-//! short-range contact, and the plate is its own short-range master, so that its pieces push
-//! each other apart where they meet ([`crate::contact::fragments`]). The run lasts 80 µs,
-//! long enough for the ball to leave the plate's far side.
+//! contact's reach. The ball and the plate meet through the short-range contact (the plate
+//! the slave: the repulsion has the plate's coefficient, which keeps the stable step the
+//! plate's), and the plate is its own short-range master, so that its pieces push each other
+//! apart where they meet ([`crate::contact::fragments`]). The run lasts 120 µs, long enough
+//! for the whole ball to pass the plate's far face.
 //!
 //! Measured: the fragments (groups of particles joined by intact bonds) and their sizes; the
 //! deepest any particle of one piece went into another piece's surface and into the ball's,
