@@ -1,5 +1,6 @@
-//! Fragments (docs/FRACTURE.md, "Contact on new surfaces", "Fragments"): a steel ball fired through a
-//! brittle plate, explicit, after Silling & Askari (2005)'s sphere through a brittle target.
+//! Fragments (docs/FRACTURE.md, "Contact on new surfaces", "Fragments"): a steel ball fired
+//! through a brittle plate, explicit, after Silling & Askari (2005)'s sphere through a brittle
+//! target.
 //!
 //! The scene (our own, stated): a square plate 20 × 20 × 2 mm of a glassy polymer
 //! (E = 3 GPa, ν = 1/4, ρ = 1190 kg/m³, G0 = 400 J/m², near PMMA's), free at its edges; a
