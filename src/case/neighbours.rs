@@ -243,12 +243,67 @@ pub fn build_bonds_variable(points: &[Vec3], queries: usize, reach: &[f64]) -> B
         queries,
         typical,
         |i| 0.5 * (reach[i] + widest),
+        |_| true,
         |i, j, d2| {
             let r = 0.5 * (reach[i] + reach[j]);
             d2 <= r * r
         },
         false,
     )
+}
+
+/// Per point, how many pairs `(i, j > i)` within `radius` [`build_pairs`] gives it, without
+/// holding them: what a rank needs to cut the particles over the ranks by cost before it
+/// builds only its part ([`build_pairs_touching`]).
+pub fn count_pairs(points: &[Vec3], radius: f64) -> Vec<usize> {
+    let r2 = radius * radius;
+    let grid = CellGrid::new(points, 0.5 * radius);
+    (0..points.len())
+        .into_par_iter()
+        .map(|i| {
+            let mut n = 0;
+            grid.for_each_candidate(&points[i], radius, |j| {
+                n += (j as usize > i && (points[j as usize] - points[i]).norm_squared() <= r2)
+                    as usize
+            });
+            n
+        })
+        .collect()
+}
+
+/// The pairs of [`build_pairs`] with either end in `owned`, each on its lower index as
+/// there: exactly the rows that [`PairList::restricted`](crate::case::pairs::PairList::restricted)
+/// keeps of the whole list, made without the whole list (a rank's part of a decomposed
+/// model, in memory proportional to the part).
+pub fn build_pairs_touching(
+    points: &[Vec3],
+    radius: f64,
+    owned: std::ops::Range<usize>,
+) -> BondList {
+    let r2 = radius * radius;
+    // A row below the range has pairs in it only if it lies within the radius of the
+    // range's bounding box; rows past the range have none (their partners are higher).
+    let (lo, hi) = owned.clone().fold(
+        (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),
+        |(lo, hi), i| (lo.inf(&points[i]), hi.sup(&points[i])),
+    );
+    let near = |p: &Vec3| {
+        let d = (lo - p).sup(&(p - hi)).sup(&Vec3::zeros());
+        d.norm_squared() <= r2
+    };
+    let mut list = build_with(
+        points,
+        owned.end.min(points.len()),
+        radius,
+        |_| radius,
+        |i| owned.contains(&i) || near(&points[i]),
+        |i, j, d2| d2 <= r2 && (owned.contains(&i) || owned.contains(&j)),
+        true,
+    );
+    // Every point has its row, as in the whole list.
+    let total = list.partner.len();
+    list.offsets.resize(points.len() + 1, total);
+    list
 }
 
 fn build(points: &[Vec3], queries: usize, radius: f64, half: bool) -> BondList {
@@ -258,18 +313,21 @@ fn build(points: &[Vec3], queries: usize, radius: f64, half: bool) -> BondList {
         queries,
         radius,
         |_| radius,
+        |_| true,
         |_, _, d2| d2 <= r2,
         half,
     )
 }
 
 /// The neighbour search: `search(i)` bounds the distance of `i`'s partners, `bonded(i, j, d²)`
-/// decides each candidate, `cell` is the typical search radius.
+/// decides each candidate, `cell` is the typical search radius; a row that is not
+/// `active(i)` has no bonds and is not searched.
 fn build_with(
     points: &[Vec3],
     queries: usize,
     cell: f64,
     search: impl Fn(usize) -> f64 + Sync,
+    active: impl Fn(usize) -> bool + Sync,
     bonded: impl Fn(usize, usize, f64) -> bool + Sync,
     half: bool,
 ) -> BondList {
@@ -291,7 +349,9 @@ fn build_with(
         .into_par_iter()
         .map(|i| {
             let mut n = 0;
-            grid.for_each_candidate(&points[i], search(i), |j| n += within(i, j) as usize);
+            if active(i) {
+                grid.for_each_candidate(&points[i], search(i), |j| n += within(i, j) as usize);
+            }
             n
         })
         .collect();
@@ -320,6 +380,9 @@ fn build_with(
         for i in start..end {
             let range = offsets[i] - base..offsets[i + 1] - base;
             let dst = &mut p[range.clone()];
+            if dst.is_empty() {
+                continue;
+            }
             let mut k = 0;
             grid.for_each_candidate(&points[i], search(i), |j| {
                 // Same test as the counting pass, so exactly `dst.len()` partners arrive.
@@ -368,6 +431,52 @@ mod tests {
                 let j = bonds.partner[b] as usize;
                 assert!(bonds.partner[bonds.range(j)].contains(&(i as u32)));
             }
+        }
+    }
+
+    #[test]
+    fn a_ranks_pairs_are_the_whole_lists_that_touch_it() {
+        // An irregular cloud (a lattice jittered by a fixed hash), cut into ranges of every
+        // kind: the pairs built for a range are, row by row, those of the whole list with an
+        // end in it, and the counts are the whole list's rows.
+        let n = 9;
+        let pts: Vec<Vec3> = (0..n * n * n)
+            .map(|i| {
+                let h = |k: usize| ((i * 2654435761 + k * 40503) % 1000) as f64 / 2500.0;
+                Vec3::new(
+                    (i % n) as f64 + h(1),
+                    ((i / n) % n) as f64 + h(2),
+                    (i / (n * n)) as f64 + h(3),
+                )
+            })
+            .collect();
+        let r = 2.2;
+        let whole = build_pairs(&pts, r);
+        let counts = count_pairs(&pts, r);
+        assert!((0..pts.len()).all(|i| counts[i] == whole.range(i).len()));
+        for own in [
+            0..pts.len(),
+            0..100,
+            100..400,
+            400..pts.len(),
+            300..301,
+            5..5,
+        ] {
+            let part = build_pairs_touching(&pts, r, own.clone());
+            assert_eq!(part.particles(), pts.len());
+            for i in 0..pts.len() {
+                let kept: Vec<u32> = whole.partner[whole.range(i)]
+                    .iter()
+                    .copied()
+                    .filter(|&j| own.contains(&i) || own.contains(&(j as usize)))
+                    .collect();
+                assert_eq!(
+                    &part.partner[part.range(i)],
+                    &kept[..],
+                    "row {i} of {own:?}"
+                );
+            }
+            assert_eq!(part.length.len(), part.partner.len());
         }
     }
 

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use crate::case::correction::{micromodulus, volume_correction};
 use crate::case::discretize::sort_morton;
-use crate::case::neighbours::build_pairs;
+use crate::case::neighbours::{build_pairs, build_pairs_touching, count_pairs, BondList};
 use crate::case::pairs::{pair_forces, ForceBuffers, PairKinematics, PairList};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
@@ -100,8 +100,8 @@ pub struct RankFigures {
     pub ghosts: usize,
     /// Directed bonds it evaluates (its pairs, those shared with another rank included).
     pub directed_bonds: usize,
-    /// Peak resident memory (`VmHWM`), MB: the setup included, which builds the whole bond
-    /// list before each rank keeps its part.
+    /// Peak resident memory (`VmHWM`), MB, the setup included: a rank counts every
+    /// particle's pairs but builds only those of its part.
     pub peak_rss_mb: Option<f64>,
     /// Resident memory after the time-step loop (`VmRSS`), MB: what a rank holds while it runs.
     pub resident_mb: Option<f64>,
@@ -180,8 +180,8 @@ impl BenchReport {
 
 /// Runs the benchmark in a rayon pool of the requested size; with `comm` (the ranks of
 /// `mpirun`), decomposed as `pdcontact run` decomposes a body: each rank owns a range of the
-/// Morton-ordered particles with equal bond counts, evaluates the pairs that touch them and
-/// receives its ghosts' positions every step. The energies are summed in blocks in a fixed
+/// Morton-ordered particles with equal bond counts, builds and evaluates only the pairs that
+/// touch them and receives its ghosts' positions every step. The energies are summed in blocks in a fixed
 /// order, so any number of threads and ranks reports the same bits.
 pub fn run_lattice_sphere(spec: &LatticeSphere, comm: Option<&dyn Comm>) -> Result<BenchReport> {
     if !(spec.spacing > 0.0 && spec.spacing.is_finite() && spec.spacing < RADIUS) {
@@ -250,29 +250,43 @@ fn run_in_pool(spec: &LatticeSphere, comm: Option<&dyn Comm>) -> BenchReport {
     let n = x.len();
     let volume = dx * dx * dx;
     let c = micromodulus(YOUNGS, horizon);
-    let whole = PairList::from_pairs(build_pairs(&x, horizon), |pairs, _, b| {
+    let weight = |pairs: &BondList, _: usize, b: usize| {
         let l = pairs.length(b);
         (c * volume_correction(l, horizon, dx) * volume * volume / l) as f32
-    });
-    let directed = whole.directed_bonds();
-    let bond_bytes = whole.bytes();
-    // A rank keeps the pairs that touch its particles and learns which ghosts it reads.
-    let (list, own, ghosts) = match comm {
+    };
+    // A rank builds only the pairs that touch its particles (counted first, to cut the
+    // particles by cost) and learns which ghosts it reads; its memory is its part's.
+    let (list, own, ghosts, directed, bond_bytes) = match comm {
         Some(c) => {
-            let cost: Vec<usize> = (0..n).map(|i| whole.row_pairs(i) + 1).collect();
+            let rows = count_pairs(&x, horizon);
+            let pairs: usize = rows.iter().sum();
+            let cost: Vec<usize> = rows.iter().map(|r| r + 1).collect();
+            drop(rows);
             let ranges = split_by_cost(&cost, c.size(), crate::reduction::BLOCK);
+            drop(cost);
             let own = ranges[c.rank()].clone();
-            let list = whole.restricted(own.clone());
-            drop(whole);
+            let list = PairList::from_pairs(build_pairs_touching(&x, horizon, own.clone()), weight)
+                .owning(own.clone());
             let ghosts = Ghosts::new(c, &ranges, &list.particles_read());
-            (list, own, ghosts)
+            // The whole list's figures, as one process reports them: a pair holds a partner,
+            // a length and a weight (4 bytes each); the offsets two words a particle.
+            let bytes = 12 * pairs + 2 * (n + 1) * std::mem::size_of::<usize>();
+            (list, own, ghosts, 2 * pairs, bytes)
         }
-        None => (whole, 0..n, Ghosts::default()),
+        None => {
+            let whole = PairList::from_pairs(build_pairs(&x, horizon), weight);
+            let (directed, bytes) = (whole.directed_bonds(), whole.bytes());
+            (whole, 0..n, Ghosts::default(), directed, bytes)
+        }
     };
     let mass = DENSITY * volume;
-    let mut y = x.clone();
-    // Force and velocity of each particle, side by side: the force pass kicks the velocity.
-    let mut state: Vec<(Vec3, Vec3)> = x.par_iter().map(|p| (Vec3::zeros(), p * RATE)).collect();
+    // Force and velocity of each own particle, side by side: the force pass kicks the
+    // velocity. The reference positions are not needed again (finite kinematics).
+    let mut state: Vec<(Vec3, Vec3)> = x[own.clone()]
+        .par_iter()
+        .map(|p| (Vec3::zeros(), p * RATE))
+        .collect();
+    let mut y = x;
     let mut buffers = ForceBuffers::default();
     pair_forces(
         &list,
@@ -289,7 +303,7 @@ fn run_in_pool(spec: &LatticeSphere, comm: Option<&dyn Comm>) -> BenchReport {
     let start = Instant::now();
     for _ in 0..spec.steps {
         // Half kick and drift of this process's particles.
-        state[own.clone()]
+        state
             .par_chunks_mut(CHUNK)
             .zip(y[own.clone()].par_chunks_mut(CHUNK))
             .for_each(|(s, y)| {
@@ -371,7 +385,7 @@ fn run_in_pool(spec: &LatticeSphere, comm: Option<&dyn Comm>) -> BenchReport {
 }
 
 /// Kinetic energy `Σ ½ m v²` plus strain energy `½ Σ_pairs w (|y| − L)²`, over the particles
-/// `own` (all without `comm`) and summed over the ranks. Both sums go block by block of
+/// `own` (all without `comm`; `state` holds those alone) and summed over the ranks. Both sums go block by block of
 /// particles in a fixed order, so that the energies reported show whether two runs (of any
 /// thread or rank count) agree bit for bit. Collective with `comm`; the ghosts' positions
 /// must be current.
@@ -383,10 +397,11 @@ fn energy(
     own: std::ops::Range<usize>,
     comm: Option<&dyn Comm>,
 ) -> f64 {
+    let first = own.start;
     let mut mine = crate::reduction::block_sums(
         own,
         || 0.0,
-        |i| 0.5 * mass * state[i].1.norm_squared(),
+        |i| 0.5 * mass * state[i - first].1.norm_squared(),
         |a, b| a + b,
     );
     mine.extend(list.strain_blocks(y));

@@ -152,6 +152,14 @@ impl PairList {
         }
     }
 
+    /// This list as a rank's part: the pairs given (from
+    /// [`build_pairs_touching`](crate::case::neighbours::build_pairs_touching)) are those that
+    /// act on `owned`, as [`Self::restricted`] would have kept them of the whole list.
+    pub fn owning(mut self, owned: std::ops::Range<usize>) -> PairList {
+        self.rows = owned;
+        self
+    }
+
     /// The pairs and image bonds that act on the particles of `owned`: a pair `(i, j)` with
     /// either end in the range, an image bond whose particle is in it. A pass over the result
     /// gives every particle of `owned` its whole force (the others a part of theirs): what one
@@ -331,7 +339,8 @@ pub enum PairKinematics<'a> {
 /// Bond forces at positions `pos` (real particles, then mirror images): for every real
 /// particle `i` of the list's rows (all but in a rank's restricted list), `finish(i, f_i)`
 /// receives its total bond force and returns the value stored in `out[i]` (so that a solver
-/// can add loads or kick velocities in the same pass).
+/// can add loads or kick velocities in the same pass). `out` holds every real particle, or
+/// the rows alone (a rank that keeps values for its own particles only): `out[i − rows.start]`.
 pub fn pair_forces<T: Send>(
     list: &PairList,
     pos: &[Vec3],
@@ -341,7 +350,7 @@ pub fn pair_forces<T: Send>(
     finish: impl Fn(usize, Vec3, &mut T) + Sync,
 ) {
     let n = list.particles;
-    assert!(out.len() == n && pos.len() >= n);
+    assert!((out.len() == n || out.len() == list.rows.len()) && pos.len() >= n);
     // The kernels take the reference positions for linearised kinematics, none for finite.
     let reference = match kinematics {
         PairKinematics::Finite => None,
@@ -405,31 +414,33 @@ pub fn pair_forces<T: Send>(
             }
         });
     let sum = &buffers.sum;
-    out[rows.clone()]
-        .par_chunks_mut(CHUNK)
-        .enumerate()
-        .for_each(|(c, out)| {
-            for (k, o) in out.iter_mut().enumerate() {
-                let i = rows.start + c * CHUNK + k;
-                let mut f = sum[i - rows.start];
-                if let Some(&s) = list.share.get(i) {
-                    f *= s;
-                }
-                // Bonds to mirror images act on `i` alone.
-                if !list.images.range(i).is_empty() {
-                    f += bond_sum::<false>(
-                        &list.images,
-                        &list.image_weight,
-                        pos,
-                        reference,
-                        i,
-                        i,
-                        &mut Scatter::none(),
-                    );
-                }
-                finish(i, f, o);
+    let out = if out.len() == n {
+        &mut out[rows.clone()]
+    } else {
+        out
+    };
+    out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
+        for (k, o) in out.iter_mut().enumerate() {
+            let i = rows.start + c * CHUNK + k;
+            let mut f = sum[i - rows.start];
+            if let Some(&s) = list.share.get(i) {
+                f *= s;
             }
-        });
+            // Bonds to mirror images act on `i` alone.
+            if !list.images.range(i).is_empty() {
+                f += bond_sum::<false>(
+                    &list.images,
+                    &list.image_weight,
+                    pos,
+                    reference,
+                    i,
+                    i,
+                    &mut Scatter::none(),
+                );
+            }
+            finish(i, f, o);
+        }
+    });
 }
 
 #[cfg(test)]
