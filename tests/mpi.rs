@@ -103,6 +103,16 @@ fn demo_on_two_ranks() {
     write_demo(&dir);
     let (a, b) = both(&dir.join("scene.toml"), 2);
     assert_identical(&a, &b);
+    // Each rank's peak memory, as the kernel counts it, beside what it owned.
+    let peaks = b["decomposition"]["peak_memory_mb"]
+        .as_array()
+        .expect("per rank");
+    assert_eq!(peaks.len(), 2);
+    for (one, p) in [&a["peak_memory_mb"]].into_iter().cycle().zip(peaks) {
+        if let (Some(one), Some(p)) = (one.as_f64(), p.as_f64()) {
+            assert!(p > 1.0 && one > 1.0, "{one} and {p} MB");
+        }
+    }
     // Each rank wrote its particles' piece of every frame: put together in rank order they
     // are the one-process frames, bit for bit, and the `.pvtu` beside them loads as one grid.
     let vtm = b["outputs"]["last_frame"].as_str().expect("last frame");

@@ -41,6 +41,8 @@ pub struct Layout {
     /// Per rank: the ghosts it receives every force evaluation (bond partners one horizon
     /// deep and the nodes of deformable master surfaces).
     pub ghosts: Vec<usize>,
+    /// Per rank: its peak resident memory so far (`VmHWM`), MB; null where unknown.
+    pub peak_memory_mb: Vec<Option<f64>>,
 }
 
 /// This rank's part of a decomposed model and the messages that keep it current.
@@ -147,8 +149,8 @@ impl Domain {
         self.ghosts.iter().map(Ghosts::count).sum()
     }
 
-    /// Per rank: the particles it owns and the ghosts it receives each evaluation (over all
-    /// bodies). Collective.
+    /// Per rank: the particles it owns, the ghosts it receives each evaluation (over all
+    /// bodies) and its peak memory so far. Collective.
     pub fn layout(&self) -> Layout {
         let owned: usize = self
             .ranges
@@ -156,11 +158,20 @@ impl Domain {
             .filter(|r| !r.is_empty())
             .map(|r| r[self.comm.rank()].len())
             .sum();
-        let all = self.comm.all_gather(&[owned as f64, self.ghosts() as f64]);
+        let peak = crate::parallel::memory::peak_rss_mb().unwrap_or(f64::NAN);
+        let all = self
+            .comm
+            .all_gather(&[owned as f64, self.ghosts() as f64, peak]);
         Layout {
             ranks: self.comm.size(),
-            particles: all.iter().step_by(2).map(|&x| x as usize).collect(),
-            ghosts: all.iter().skip(1).step_by(2).map(|&x| x as usize).collect(),
+            particles: all.iter().step_by(3).map(|&x| x as usize).collect(),
+            ghosts: all.iter().skip(1).step_by(3).map(|&x| x as usize).collect(),
+            peak_memory_mb: all
+                .iter()
+                .skip(2)
+                .step_by(3)
+                .map(|&x| (!x.is_nan()).then_some(x))
+                .collect(),
         }
     }
 

@@ -9,6 +9,7 @@
 //! Indices travel as `f64`: a particle index is below 2⁵³, so it is exact, and one buffer
 //! type keeps the trait small.
 
+pub mod memory;
 #[cfg(feature = "mpi")]
 pub mod mpi;
 

@@ -76,6 +76,9 @@ pub struct RunSummary {
     /// Of `wall_seconds`, the solver's loop (iterations or steps and the frames written
     /// during it); the rest is reading the meshes and building the model.
     pub solve_seconds: f64,
+    /// The process's peak resident memory (`VmHWM`), MB, up to the summary (under `mpirun`:
+    /// rank 0's; every rank's in `decomposition`); null where the system does not say.
+    pub peak_memory_mb: Option<f64>,
     pub verlet_rebuilds: usize,
     pub contact_pairs: usize,
     pub missed_contacts: usize,
@@ -502,6 +505,7 @@ pub fn run_scene_with(
         residual: stats.residual,
         wall_seconds: start.elapsed().as_secs_f64(),
         solve_seconds,
+        peak_memory_mb: crate::parallel::memory::peak_rss_mb(),
         verlet_rebuilds: model.verlet_rebuilds(),
         contact_pairs: model.contact_count(),
         missed_contacts: model.missed_contacts(),

@@ -23,6 +23,7 @@ use crate::case::neighbours::{build_pairs, build_pairs_touching, count_pairs, Bo
 use crate::case::pairs::{pair_forces, ForceBuffers, PairKinematics, PairList};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
+use crate::parallel::memory::{peak_rss_mb, resident_mb};
 use crate::parallel::{split_by_cost, Comm, Ghosts};
 
 /// Radius of the sphere, m.
@@ -417,23 +418,6 @@ fn energy(
         })
     };
     fold(false) + fold(true)
-}
-
-/// Resident set size now (`VmRSS` of /proc/self/status), MB; `None` where there is no such file.
-pub fn resident_mb() -> Option<f64> {
-    proc_status_mb("VmRSS:")
-}
-
-/// Peak resident set size (`VmHWM` of /proc/self/status), MB; `None` where there is no such file.
-pub fn peak_rss_mb() -> Option<f64> {
-    proc_status_mb("VmHWM:")
-}
-
-fn proc_status_mb(key: &str) -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with(key))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024.0 / 1e6)
 }
 
 #[cfg(test)]
