@@ -9,7 +9,9 @@
 //! more conjugate-gradient iterations than the next Newton step can use), then looks along
 //! `d` for the point where the energy's slope `d·S⁻¹R(u + αd)` has fallen to half its value
 //! at `α = 0` (regula falsi, at most [`LINE_SEARCH`] force evaluations; a trial state with a
-//! missed contact is a step too long). An increment whose residual stops falling once its
+//! missed contact is a step too long), unless the whole step is sound and brings slaves into
+//! contact that were not: that step is taken whole, so that the contact does not grow by one
+//! ring of slaves per iteration. An increment whose residual stops falling once its
 //! contacts have settled ([`STALL_WINDOW`]) is handed to ADR from the state Newton reached:
 //! between two deformable bodies the rim of a stiff contact can cycle, each Newton step
 //! pressing another rim slave in with a force its bonds do not carry yet, where ADR's damped
@@ -536,10 +538,13 @@ fn stalled(history: &[(f64, usize)]) -> bool {
 }
 
 /// Moves the model along `d` to where the energy's slope `d·S⁻¹R` has fallen to half of `g0`
-/// (its value at the start), by regula falsi; ends with the forces evaluated at the state
-/// taken. False if no trial state was sound.
+/// (its value at the start), by regula falsi, or the whole step where that is sound and
+/// brings more slaves into contact; ends with the forces evaluated at the state taken. False
+/// if no trial state was sound.
 fn line_search(model: &mut Model, d: &Dofs, g0: f64, scratch: &mut Dofs) -> bool {
     let start = State::of(model);
+    let contacts = model.contact_count();
+    let mut first = true;
     let (mut lo, mut g_lo) = (0.0f64, g0);
     let mut hi: Option<(f64, f64)> = None;
     let mut alpha = 1.0;
@@ -554,6 +559,7 @@ fn line_search(model: &mut Model, d: &Dofs, g0: f64, scratch: &mut Dofs) -> bool
         at = alpha;
         if !sound(model) {
             // Too far: a slave went through. An upper bound with an unknown slope.
+            first = false;
             hi = Some((alpha, f64::NEG_INFINITY));
             alpha = 0.5 * (lo + alpha);
             last_side = 0;
@@ -562,9 +568,14 @@ fn line_search(model: &mut Model, d: &Dofs, g0: f64, scratch: &mut Dofs) -> bool
         residual(model, scratch);
         let g = d.dot(scratch);
         last_sound = Some(alpha);
-        if g.abs() <= 0.5 * g0 {
+        // The whole step brought slaves into contact that the Newton direction knew nothing
+        // of: taken whole, they enter the next tangent pressed in. Cut back to where they
+        // just touch (where the energy's slope turns), the contact grew one ring of slaves
+        // per iteration (docs/PERFORMANCE.md, "The static solver").
+        if g.abs() <= 0.5 * g0 || (first && model.contact_count() > contacts) {
             return true;
         }
+        first = false;
         if g > 0.0 {
             if last_side == 1 {
                 if let Some((_, g_hi)) = hi.as_mut() {
