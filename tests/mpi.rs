@@ -56,6 +56,38 @@ fn on_ranks(ranks: usize, out: &Path, scene: &Path) -> std::process::Output {
         .expect("mpirun runs (install Open MPI: apt install openmpi-bin)")
 }
 
+/// `pdcontact bench --lattice-sphere SPACING --steps STEPS --threads 1 --json`, in one process
+/// (`ranks` 1) or by `mpirun -n ranks`: the first rank's JSON report.
+fn bench(spacing: &str, steps: &str, ranks: usize) -> serde_json::Value {
+    let args = [
+        "bench",
+        "--lattice-sphere",
+        spacing,
+        "--steps",
+        steps,
+        "--threads",
+        "1",
+        "--json",
+    ];
+    let out = if ranks == 1 {
+        Command::new(exe()).args(args).output()
+    } else {
+        Command::new("mpirun")
+            .args(["--oversubscribe", "-n", &ranks.to_string(), exe()])
+            .args(args)
+            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+            .output()
+    }
+    .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON report, from the first rank")
+}
+
 /// `scene` run in one process on 2 threads, and by `mpirun -n ranks` on 1 thread each.
 fn both(scene: &Path, ranks: usize) -> (serde_json::Value, serde_json::Value) {
     let dir = scene.parent().expect("folder");
@@ -254,35 +286,7 @@ master = "plane"
 /// for bit, every particle owned once, and each rank's memory reported.
 #[test]
 fn bench_on_two_ranks() {
-    let bench = |ranks: Option<usize>| -> serde_json::Value {
-        let args = [
-            "bench",
-            "--lattice-sphere",
-            "0.1",
-            "--steps",
-            "20",
-            "--threads",
-            "1",
-            "--json",
-        ];
-        let out = match ranks {
-            None => Command::new(exe()).args(args).output(),
-            Some(n) => Command::new("mpirun")
-                .args(["--oversubscribe", "-n", &n.to_string(), exe()])
-                .args(args)
-                .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-                .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-                .output(),
-        }
-        .expect("runs");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        serde_json::from_slice(&out.stdout).expect("one JSON report, from the first rank")
-    };
-    let (one, two) = (bench(None), bench(Some(2)));
+    let (one, two) = (bench("0.1", "20", 1), bench("0.1", "20", 2));
     assert_eq!(one["ranks"], 1);
     assert_eq!(two["ranks"], 2);
     for key in ["particles", "initial_energy", "final_energy"] {
@@ -310,33 +314,7 @@ fn bench_on_two_ranks() {
 #[test]
 fn each_ranks_peak_memory_falls_with_the_rank_count() {
     let peaks = |ranks: usize| -> (Vec<f64>, serde_json::Value) {
-        let args = [
-            "bench",
-            "--lattice-sphere",
-            "0.03",
-            "--steps",
-            "2",
-            "--threads",
-            "1",
-            "--json",
-        ];
-        let out = if ranks == 1 {
-            Command::new(exe()).args(args).output()
-        } else {
-            Command::new("mpirun")
-                .args(["--oversubscribe", "-n", &ranks.to_string(), exe()])
-                .args(args)
-                .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-                .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-                .output()
-        }
-        .expect("runs");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+        let report = bench("0.03", "2", ranks);
         let peaks = report["per_rank"]
             .as_array()
             .expect("per rank")

@@ -182,8 +182,8 @@ impl BenchReport {
 /// Runs the benchmark in a rayon pool of the requested size; with `comm` (the ranks of
 /// `mpirun`), decomposed as `pdcontact run` decomposes a body: each rank owns a range of the
 /// Morton-ordered particles with equal bond counts, builds and evaluates only the pairs that
-/// touch them and receives its ghosts' positions every step. The energies are summed in blocks in a fixed
-/// order, so any number of threads and ranks reports the same bits.
+/// touch them and receives its ghosts' positions every step. The energies are summed in
+/// blocks in a fixed order, so any number of threads and ranks reports the same bits.
 pub fn run_lattice_sphere(spec: &LatticeSphere, comm: Option<&dyn Comm>) -> Result<BenchReport> {
     if !(spec.spacing > 0.0 && spec.spacing.is_finite() && spec.spacing < RADIUS) {
         return Err(Error::input(format!(
@@ -386,10 +386,10 @@ fn run_in_pool(spec: &LatticeSphere, comm: Option<&dyn Comm>) -> BenchReport {
 }
 
 /// Kinetic energy `Σ ½ m v²` plus strain energy `½ Σ_pairs w (|y| − L)²`, over the particles
-/// `own` (all without `comm`; `state` holds those alone) and summed over the ranks. Both sums go block by block of
-/// particles in a fixed order, so that the energies reported show whether two runs (of any
-/// thread or rank count) agree bit for bit. Collective with `comm`; the ghosts' positions
-/// must be current.
+/// `own` (all without `comm`; `state` holds those alone) and summed over the ranks. Both sums
+/// go block by block of particles in a fixed order, so that the energies reported show whether
+/// two runs (of any thread or rank count) agree bit for bit. Collective with `comm`; the
+/// ghosts' positions must be current.
 fn energy(
     y: &[Vec3],
     state: &[(Vec3, Vec3)],
