@@ -268,7 +268,7 @@ fn view_py_renders_the_contact_in_paraview() {
     let r: serde_json::Value = serde_json::from_slice(&focus.stdout).expect("JSON");
     let caption = r["caption"].as_str().expect("caption");
     assert!(
-        caption.starts_with("ball on plane\nload factor 1 (ADR iteration "),
+        caption.starts_with("ball on plane\nload factor 1 (Newton iteration "),
         "{r}"
     );
     assert_eq!(r["legend"], "contact pressure (MPa)", "{r}");

@@ -319,7 +319,8 @@ fn mutated_scenes_are_accepted_or_refused_never_crash() {
         dir.join(coarse),
     )
     .unwrap();
-    let demo_scene = demo::scene_text().replace(demo::DEMO_MESH_NAME, coarse);
+    let demo_scene =
+        demo::scene_text(demo::DemoSolver::Static).replace(demo::DEMO_MESH_NAME, coarse);
     assert!(demo_scene.contains(coarse));
     // The demo's quarter shell would take seconds per mutant: the same scene on a whole sphere,
     // without the quarter's set and symmetry planes.

@@ -49,8 +49,9 @@ pub const VIEW_NAME: &str = "view.py";
 /// The script, before the run's bodies are filled in.
 const VIEW_TEMPLATE: &str = include_str!("view.py");
 
-/// `view.py` for `model`: the template with its contact pairs and deformable bodies.
-fn view_script(model: &Model) -> String {
+/// `view.py` for `model`: the template with its contact pairs and deformable bodies, and what
+/// a quasi-static frame's step counts (`iteration_word`).
+fn view_script(model: &Model, iteration_word: &str) -> String {
     let name = |k: usize| serde_json::to_string(model.bodies[k].name()).unwrap_or_default();
     let pairs: Vec<String> = model
         .contact_pairs()
@@ -66,6 +67,11 @@ fn view_script(model: &Model) -> String {
         .replacen(
             "DEFORMABLE = []",
             &format!("DEFORMABLE = [{}]", deformable.join(", ")),
+            1,
+        )
+        .replacen(
+            "ITERATION = \"ADR iteration\"",
+            &format!("ITERATION = \"{iteration_word}\""),
             1,
         )
 }
@@ -136,6 +142,9 @@ pub struct FrameWriter {
     every: usize,
     /// ADR (pseudo-time = load factor) or explicit (time in s).
     pub(crate) adr: bool,
+    /// What a quasi-static frame's step counts, for `view.py`'s caption: "ADR iteration", or
+    /// "Newton iteration" for the static solver.
+    pub iteration_word: &'static str,
     entries: Vec<Entry>,
     lo: f64,
     hi: f64,
@@ -175,6 +184,7 @@ impl FrameWriter {
             folder: folder.to_path_buf(),
             every: every.max(1),
             adr: false,
+            iteration_word: "ADR iteration",
             entries: Vec::new(),
             lo: 0.0,
             hi: 1.0,
@@ -415,7 +425,7 @@ impl FrameWriter {
         }
         if self.entries.is_empty() {
             let view = self.folder.join(VIEW_NAME);
-            let script = view_script(model);
+            let script = view_script(model, self.iteration_word);
             write_atomically(&view, |w| w.write_all(script.as_bytes()))?;
         }
         let vtm = format!("{dir_name}.vtm");

@@ -15,7 +15,7 @@ the camera on the contact: looking through the master at the pressure-weighted c
 loaded surface nodes, along their mean outward normal. The legend, in the lower right corner,
 gives the pressure in the unit that suits the frame (Pa, kPa, MPa or GPa; every label in one
 format) from 0 to its largest value; the upper left corner names the contact pairs and the
-frame: its load factor and iteration (ADR) or its time (s) and step (explicit). Where bonds
+frame: its load factor and iteration (ADR or the static solver) or its time (s) and step (explicit). Where bonds
 broke (a `damage` field above 0), the deformable bodies' particles are shown coloured by
 damage, from 0 to 1, seen along the axis in which the bodies are thinnest, centred on the
 damaged particles.
@@ -32,6 +32,8 @@ import xml.etree.ElementTree as ET
 # pdcontact for this run.
 PAIRS = []
 DEFORMABLE = []
+# What a quasi-static frame's iteration counts: "ADR iteration" or "Newton iteration".
+ITERATION = "ADR iteration"
 
 # Size of the saved picture (pixels); the legend's and the caption's fonts are sized for it.
 RESOLUTION = [1600, 1000]
@@ -117,7 +119,7 @@ def focus(blocks, slaves):
 
 def frame_info(blocks, slaves):
     """The field data pdcontact writes into every dataset of a frame: {"load_factor",
-    "iteration"} (ADR) or {"time", "step"} (explicit); empty if the frame has none."""
+    "iteration"} (ADR, static) or {"time", "step"} (explicit); empty if the frame has none."""
     names = [s + "/surface" for s in slaves] + sorted(blocks)
     for name in names:
         g = blocks.get(name)
@@ -141,7 +143,7 @@ def caption(slaves, info, timestep):
     if "load_factor" in info:
         when = "load factor %.4g" % info["load_factor"]
         if "iteration" in info:
-            when += " (ADR iteration %d)" % info["iteration"]
+            when += " (%s %d)" % (ITERATION, info["iteration"])
     elif "time" in info:
         when = "t = %.4g s" % info["time"]
         if "step" in info:

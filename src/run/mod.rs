@@ -393,11 +393,14 @@ pub fn run_scene_with(
             eprintln!("warning: {w}");
         }
     }
-    let frames = if root {
+    let mut frames = if root {
         FrameWriter::new(&folder, scene.output.every)?
     } else {
         FrameWriter::for_pieces(&folder, scene.output.every)
     };
+    if scene.solver.kind == SolverKind::Static {
+        frames.iteration_word = "Newton iteration";
+    }
     let pvd = frames.pvd_path();
     let stop = options.stop.clone().unwrap_or_default();
     let mut monitor = RunMonitor::new(

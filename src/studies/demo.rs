@@ -2,7 +2,8 @@
 //!
 //! An elastic sphere (R = 1 m, E = 1 GPa, ν = 0.25) pressed onto a rigid plane so that Hertz's
 //! contact radius is a = 0.15 m (a/R = 0.15, where the theory holds: METHOD.md §7), solved
-//! quasi-statically by ADR and compared with Hertz. The model is what the contact needs: a
+//! quasi-statically by the static solver (Newton-Raphson, METHOD.md §6; ADR under `mpirun`,
+//! where the static solver does not run) and compared with Hertz. The model is what the contact needs: a
 //! quarter of the shell 2a deep around the pole, with symmetry planes x = 0 and y = 0, meshed
 //! with hex8 by gmsh (`meshes/sphere_cap_quarter.msh`, 12 cells across the contact radius,
 //! embedded in the binary), the load on its inner face. The mesh and the scene are written into
@@ -33,21 +34,60 @@ pub const POISSON: f64 = 0.25;
 /// (a/R = 0.15, `P = 4 E* a³ / 3R`). The quarter model carries a quarter of it.
 pub const LOAD: f64 = 4.8e6;
 
-/// The demo scene (documented: it is the user's first example).
-pub fn scene_text() -> String {
-    format!(
-        r#"# pdcontact demo: an elastic sphere pressed onto a rigid plane, compared with Hertz.
-# Run it again (or change it) with:  pdcontact run scene.toml
+/// The demo's solver: the static solver where it runs (one process), faster than ADR on this
+/// scene (docs/PERFORMANCE.md, "The static solver"); ADR over MPI ranks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DemoSolver {
+    Static,
+    Adr,
+}
 
-[solver]
-kind = "adr"               # quasi-static: adaptive dynamic relaxation
+impl DemoSolver {
+    /// The static solver in one process, ADR over several.
+    pub fn for_options(options: &RunOptions) -> DemoSolver {
+        match &options.comm {
+            Some(c) if c.size() > 1 => DemoSolver::Adr,
+            _ => DemoSolver::Static,
+        }
+    }
+
+    /// The scene's `[solver]` and `[output]` tables.
+    fn tables(self) -> &'static str {
+        match self {
+            DemoSolver::Static => {
+                r#"[solver]
+kind = "static"            # quasi-static: Newton-Raphson (one process; under mpirun, "adr")
+tolerance = 1e-4           # out-of-balance force / applied load
+max_iterations = 200
+
+[output]
+folder = "."               # frames and summary.json next to this file
+every = 5                  # a frame every 5 Newton iterations: watch the contact form in ParaView
+"#
+            }
+            DemoSolver::Adr => {
+                r#"[solver]
+kind = "adr"               # quasi-static: adaptive dynamic relaxation (the static solver
+                           # runs in one process only)
 tolerance = 1e-4           # out-of-balance force / applied load
 max_iterations = 50000
 
 [output]
 folder = "."               # frames and summary.json next to this file
 every = 100                # a frame every 100 iterations: watch the contact form in ParaView
+"#
+            }
+        }
+    }
+}
 
+/// The demo scene (documented: it is the user's first example).
+pub fn scene_text(solver: DemoSolver) -> String {
+    format!(
+        r#"# pdcontact demo: an elastic sphere pressed onto a rigid plane, compared with Hertz.
+# Run it again (or change it) with:  pdcontact run scene.toml
+
+{tables}
 [[body]]
 name = "ball"
 mesh = "{mesh}"  # a quarter of the sphere's shell around its
@@ -83,6 +123,7 @@ axis = "x"
 body = "ball"
 axis = "y"
 "#,
+        tables = solver.tables(),
         mesh = DEMO_MESH_NAME,
         e = YOUNGS,
         nu = POISSON,
@@ -109,7 +150,7 @@ impl DemoReport {
         let rel = |x: f64, t: f64| 100.0 * (x / t - 1.0);
         format!(
             "Elastic sphere on a rigid plane: R = {RADIUS} m, E = {YOUNGS:.1e} Pa, nu = {POISSON}, P = {LOAD:.3e} N; a quarter of the sphere with symmetry planes x = 0, y = 0\n\
-             {} particles, {} bonds; ADR {} iterations, residual {:.2e}, {:.1} s\n\n\
+             {} particles, {} bonds; {}, residual {:.2e}, {:.1} s\n\n\
              {:<32} {:>14} {:>14} {:>9}\n\
              {:<32} {:>14.4} {:>14.4} {:>+8.2}%\n\
              {:<32} {:>14.4e} {:>14.4e} {:>+8.2}%\n\
@@ -118,7 +159,7 @@ impl DemoReport {
              Frames: {}\n",
             s.particles,
             s.bonds,
-            s.iterations,
+            iterations(s),
             s.residual,
             s.wall_seconds,
             "",
@@ -146,13 +187,32 @@ impl DemoReport {
     }
 }
 
+/// "ADR 523 iterations", or the static solver's Newton and linear iterations.
+fn iterations(s: &RunSummary) -> String {
+    if s.solver.solver == "static" {
+        let relaxed = if s.solver.relaxation_iterations > 0 {
+            format!(" + {} ADR", s.solver.relaxation_iterations)
+        } else {
+            String::new()
+        };
+        format!(
+            "static solver {} Newton iterations{relaxed} ({} linear)",
+            s.iterations, s.solver.linear_iterations
+        )
+    } else {
+        format!("ADR {} iterations", s.iterations)
+    }
+}
+
 /// Runs the demo into `folder`.
 pub fn run_demo(folder: &Path, options: &RunOptions) -> Result<DemoReport> {
     std::fs::create_dir_all(folder).map_err(|e| Error::output(folder, e))?;
     let mesh_path = folder.join(DEMO_MESH_NAME);
     write_atomically(&mesh_path, |w| std::io::Write::write_all(w, DEMO_MESH))?;
     let scene_path: PathBuf = folder.join("scene.toml");
-    if let Some(kept) = write_keeping_edits(&scene_path, &scene_text())? {
+    if let Some(kept) =
+        write_keeping_edits(&scene_path, &scene_text(DemoSolver::for_options(options)))?
+    {
         if !options.quiet {
             eprintln!(
                 "warning: {} differed from the demo's scene (edited?): it is kept as {}",
