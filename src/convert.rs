@@ -50,6 +50,9 @@ pub struct ConvertSummary {
     /// Smooth surface particles whose volume was set to their area times the surface layer's
     /// thickness (`surface_volume = "per-area"`, the default).
     pub surface_layer_evened: usize,
+    /// Bonds removed because they crossed a slot, notch or crack of the mesh narrower than the
+    /// horizon (their line leaves the body and re-enters through a face facing the first).
+    pub bonds_across_gaps: usize,
     pub surface_missed: usize,
     pub surface_extra: usize,
     pub master_segments: usize,
@@ -89,6 +92,7 @@ impl ConvertSummary {
             surface_particles: agreement.surface_particles,
             boundary_nodes: agreement.boundary_nodes,
             surface_layer_evened: case.surface_layer_evened,
+            bonds_across_gaps: case.bonds_across_gaps,
             surface_missed: agreement.missed,
             surface_extra: agreement.extra,
             master_segments: case.segments.segments.len(),
@@ -113,7 +117,7 @@ impl ConvertSummary {
     pub fn to_text(&self) -> String {
         let mut text = format!(
             "particles {} (volume {:.6e}, mesh {:.6e}, {:+.3} %)\n\
-             bonds {} ({:.1} per particle), spacing {:.6e}, horizon {:.6e}\n\
+             bonds {} ({:.1} per particle; {} across the mesh's gaps removed), spacing {:.6e}, horizon {:.6e}\n\
              surface particles {}, mesh boundary nodes {}: {} missed, {} extra; \
              {} with their volume evened to their area\n\
              master segments {} ({} boundary faces dropped)\n\
@@ -127,6 +131,7 @@ impl ConvertSummary {
             100.0 * (self.total_volume / self.mesh_volume - 1.0),
             self.bonds,
             self.bonds as f64 / self.particles.max(1) as f64,
+            self.bonds_across_gaps,
             self.spacing,
             self.horizon,
             self.surface_particles,

@@ -173,7 +173,7 @@ impl PdCase {
             lost_of.push(lost);
             removed.extend(cut);
         }
-        self.bonds = without(&self.bonds, &removed);
+        self.bonds = self.bonds.without(&removed);
         let source: Vec<usize> = (0..position.len())
             .map(|j| self.ghosts.source_of(j, n))
             .collect();
@@ -214,36 +214,6 @@ impl PdCase {
         }
         Ok(out)
     }
-}
-
-/// `bonds` without `removed` (`(i, bond)`, each real pair once): both directions of a real
-/// pair, the bond alone to a mirror image.
-fn without(bonds: &BondList, removed: &[(u32, u32)]) -> BondList {
-    let n = bonds.particles();
-    let mut drop = vec![false; bonds.len()];
-    for &(i, b) in removed {
-        drop[b as usize] = true;
-        let j = bonds.partner[b as usize] as usize;
-        if j < n {
-            if let Some(c) = bonds.range(j).find(|&c| bonds.partner[c] == i) {
-                drop[c] = true;
-            }
-        }
-    }
-    let mut out = BondList {
-        offsets: Vec::with_capacity(n + 1),
-        partner: Vec::with_capacity(bonds.len()),
-        length: Vec::with_capacity(bonds.len()),
-    };
-    out.offsets.push(0);
-    for i in 0..n {
-        for b in bonds.range(i).filter(|&b| !drop[b]) {
-            out.partner.push(bonds.partner[b]);
-            out.length.push(bonds.length[b]);
-        }
-        out.offsets.push(out.partner.len());
-    }
-    out
 }
 
 /// Triangles with an edge longer than this many particle spacings are left out of a face

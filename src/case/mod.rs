@@ -24,6 +24,7 @@ pub mod generators;
 pub mod neighbours;
 pub mod pairs;
 pub mod segments;
+pub mod sight;
 pub mod skin;
 pub mod spacing;
 pub mod surface;
@@ -386,6 +387,8 @@ pub struct PdCase {
     /// Surface particles whose volume was evened to their area ([`even_surface_layer`]).
     pub surface_layer_evened: usize,
     pub bonds: BondList,
+    /// Bonds removed because they crossed a slot, notch or crack of the mesh ([`sight`]).
+    pub bonds_across_gaps: usize,
     pub surface: SurfaceDetection,
     pub correction: SurfaceCorrection,
     /// The skin correction's factors, where it was asked for ([`skin`]).
@@ -491,6 +494,23 @@ impl PdCase {
             }
             None => build_bonds_from(&position, particles.len(), reach),
         };
+        // A slot, notch or crack the mesh has, narrower than the horizon: the bonds across
+        // it go, before the corrections see its faces.
+        let across_gaps = sight::bonds_across_gaps(
+            &faces,
+            &mesh.coords,
+            &ghosts,
+            &position,
+            &bonds,
+            reach,
+            spacing,
+        );
+        let bonds = if across_gaps.is_empty() {
+            bonds
+        } else {
+            bonds.without(&across_gaps)
+        };
+        let bonds_across_gaps = across_gaps.len();
         times.neighbours = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
@@ -571,6 +591,7 @@ impl PdCase {
             refine: options.refine,
             surface_layer_evened,
             bonds,
+            bonds_across_gaps,
             surface,
             correction,
             skin,

@@ -143,6 +143,36 @@ pub struct BondList {
 }
 
 impl BondList {
+    /// The list without `removed` (`(i, bond)`, each real pair once): both directions of a
+    /// real pair, the bond alone to a mirror image.
+    pub fn without(&self, removed: &[(u32, u32)]) -> BondList {
+        let n = self.particles();
+        let mut drop = vec![false; self.len()];
+        for &(i, b) in removed {
+            drop[b as usize] = true;
+            let j = self.partner[b as usize] as usize;
+            if j < n {
+                if let Some(c) = self.range(j).find(|&c| self.partner[c] == i) {
+                    drop[c] = true;
+                }
+            }
+        }
+        let mut out = BondList {
+            offsets: Vec::with_capacity(n + 1),
+            partner: Vec::with_capacity(self.len()),
+            length: Vec::with_capacity(self.len()),
+        };
+        out.offsets.push(0);
+        for i in 0..n {
+            for b in self.range(i).filter(|&b| !drop[b]) {
+                out.partner.push(self.partner[b]);
+                out.length.push(self.length[b]);
+            }
+            out.offsets.push(out.partner.len());
+        }
+        out
+    }
+
     /// Number of particles.
     pub fn particles(&self) -> usize {
         self.offsets.len().saturating_sub(1)
