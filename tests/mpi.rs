@@ -405,6 +405,7 @@ fn fracture_on_three_ranks() {
         thickness: 0.008,
         displacement: 0.0005,
         steps: 5,
+        mesh: None,
     };
     let path = dir.join("beam.toml");
     std::fs::write(&path, beam.scene(".")).expect("written");

@@ -170,6 +170,10 @@ pub(crate) enum Command {
         /// instead of the box generator; --spacing is then the ball's.
         #[arg(long)]
         plate_mesh: Option<PathBuf>,
+        /// The notched beam as a mesh with its notch cut out as a slot (`tools/gmsh_beam.py`)
+        /// instead of the box generator and a pre-crack; its spacing is the mesh's.
+        #[arg(long)]
+        beam_mesh: Option<PathBuf>,
         /// The beam's thickness B, m.
         #[arg(long, default_value_t = 0.008)]
         thickness: f64,

@@ -125,6 +125,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             case,
             spacing,
             plate_mesh,
+            beam_mesh,
             thickness,
             displacement,
             steps,
@@ -160,6 +161,11 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                     "--plate-mesh is the perforated plate's (--case perforation)",
                 ));
             }
+            if beam_mesh.is_some() && case != FractureCase::Beam {
+                return Err(Error::input(
+                    "--beam-mesh is the notched beam's (--case beam)",
+                ));
+            }
             if case == FractureCase::Perforation {
                 let r = pdcontact::studies::fracture::run_perforation(
                     spacing,
@@ -185,6 +191,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 thickness,
                 displacement,
                 steps,
+                mesh: beam_mesh,
             };
             let r = pdcontact::studies::fracture::run_beam(&beam, &output, quiet)?;
             print_report(json, &r, || r.to_text());

@@ -46,6 +46,9 @@ pub struct NotchedBeam {
     /// The loading roller's whole travel, m, in `steps` increments.
     pub displacement: f64,
     pub steps: usize,
+    /// The beam as a mesh with its notch cut out as a slot (`tools/gmsh_beam.py`), in place
+    /// of the box generator and the `[[precrack]]`; `spacing` is then the mesh's.
+    pub mesh: Option<PathBuf>,
 }
 
 impl NotchedBeam {
@@ -53,8 +56,32 @@ impl NotchedBeam {
     /// thickness.
     pub fn scene(&self, folder: &str) -> String {
         let (w, s) = (HEIGHT, 4.0 * HEIGHT);
-        let (a, half_length, r) = (0.5 * w, 0.5 * s + 2.0 * ROLLER, ROLLER);
-        let b = 0.5 * self.thickness;
+        let half_length = 0.5 * s + 2.0 * ROLLER;
+        let (body, notch) = match &self.mesh {
+            // The mesh's slot is the notch: the bonds across it go with the case
+            // (`case::sight`).
+            Some(m) => (format!("mesh = {:?}", m.display().to_string()), String::new()),
+            None => (
+                format!(
+                    "generator = {{ shape = \"box\", min = [{x0}, 0, 0], max = [{half_length}, {b}, {w}], spacing = {dx} }}",
+                    x0 = -half_length,
+                    b = 0.5 * self.thickness,
+                    dx = self.spacing,
+                ),
+                format!(
+                    "# The notch: bonds across x = 0 from the bottom face up to a = W/2 removed.\n\
+                     [[precrack]]\nbody = \"beam\"\npoint = [0, 0, {ac}]\nnormal = [1, 0, 0]\nalong = [0, 0, 1]\nsize = [{a}, 1.0]\n\n",
+                    ac = 0.25 * w,
+                    a = 0.5 * w,
+                ),
+            ),
+        };
+        self.scene_with(folder, &body, &notch)
+    }
+
+    fn scene_with(&self, folder: &str, body: &str, notch: &str) -> String {
+        let (w, s) = (HEIGHT, 4.0 * HEIGHT);
+        let r = ROLLER;
         let roller = |name: &str, x: f64, z: f64, extra: &str| {
             format!(
                 "[[body]]\nname = \"{name}\"\nkind = \"rigid\"\ngenerator = {{ shape = \"cylinder\", radius = {r}, length = {len}, spacing = {sp}, center = [{x}, 0, {z}] }}\n{extra}\n[[contact]]\nslave = \"beam\"\nmaster = \"{name}\"\n\n",
@@ -67,17 +94,12 @@ impl NotchedBeam {
              [solver]\nkind = \"adr\"\nload_steps = {steps}\nmax_iterations = 1000000\n\n\
              [output]\nfolder = \"{folder}\"\nevery = 100000\n\n\
              [[body]]\nname = \"beam\"\n\
-             generator = {{ shape = \"box\", min = [{x0}, 0, 0], max = [{half_length}, {b}, {w}], spacing = {dx} }}\n\
+             {body}\n\
              kinematics = \"small\"\n\
              material = {{ youngs_modulus = {YOUNGS:e}, poisson_ratio = 0.25, density = 1200, fracture_energy = {FRACTURE_ENERGY} }}\n\n\
              [[symmetry]]\nbody = \"beam\"\naxis = \"y\"\n\n\
-             # The notch: bonds across x = 0 from the bottom face up to a = W/2 removed.\n\
-             [[precrack]]\nbody = \"beam\"\npoint = [0, 0, {ac}]\nnormal = [1, 0, 0]\nalong = [0, 0, 1]\nsize = [{a}, 1.0]\n\n\
-             {left}{right}{striker}",
+             {notch}{left}{right}{striker}",
             steps = self.steps,
-            x0 = -half_length,
-            dx = self.spacing,
-            ac = 0.5 * a,
             left = roller("left", -0.5 * s, -r, ""),
             right = roller("right", 0.5 * s, -r, ""),
             striker = roller(
@@ -127,7 +149,7 @@ impl BeamResult {
         let pct = |p: f64| 100.0 * (self.peak_load / p - 1.0);
         format!(
             concat!(
-                "notched three-point bend beam, W = {w} mm, B = {b} mm, a/W = 0.5: Δ = {dx} mm, δ = {d:.2} mm (a/δ = {ad:.1}), {n} particles\n",
+                "notched three-point bend beam, W = {w} mm, B = {b} mm, a/W = 0.5: Δ = {dx:.3} mm, δ = {d:.2} mm (a/δ = {ad:.1}), {n} particles\n",
                 "peak load {p:.1} N at {u:.3} mm; LEFM {ps:.1} N in plane stress ({e1:+.1} %), {pe:.1} N in plane strain ({e2:+.1} %)\n",
                 "after the peak the load fell to {soft:.0} % of it; crack tip {tip:.1} mm above the bottom face (notch tip {a} mm), at most {off:.1} mm off the notch's plane\n",
                 "{bonds} bonds broken, {it} iterations, {wall:.1} s; chart {chart}\n",
@@ -158,6 +180,12 @@ impl BeamResult {
 
 /// Runs `beam` into `folder` and measures it.
 pub fn run_beam(beam: &NotchedBeam, folder: &Path, quiet: bool) -> Result<BeamResult> {
+    let mut beam = beam.clone();
+    if let Some(m) = &beam.mesh {
+        beam.mesh = Some(std::fs::canonicalize(m).map_err(|e| {
+            crate::error::Error::input(format!("{}: cannot read the beam mesh: {e}", m.display()))
+        })?);
+    }
     let (model, summary, wall_seconds) = run_in(&beam.scene("."), folder, quiet)?;
     // Half the thickness is modelled: the whole beam carries twice the reaction.
     let (peak_load, peak_displacement) = summary
@@ -197,7 +225,11 @@ pub fn run_beam(beam: &NotchedBeam, folder: &Path, quiet: bool) -> Result<BeamRe
     }
     let nu: f64 = 0.25;
     Ok(BeamResult {
-        spacing: beam.spacing,
+        spacing: if beam.mesh.is_some() {
+            pd.spacing()
+        } else {
+            beam.spacing
+        },
         horizon,
         thickness: beam.thickness,
         particles: summary.particles,
