@@ -40,16 +40,23 @@ fn write_demo(dir: &Path) {
     std::fs::write(dir.join("scene.toml"), scene_text(DemoSolver::Adr)).expect("scene written");
 }
 
+/// `mpirun -n ranks pdcontact`, allowed to run as root (CI's containers), the program's
+/// arguments to follow.
+fn mpirun(ranks: usize) -> Command {
+    let mut c = Command::new("mpirun");
+    c.args(["--oversubscribe", "-n", &ranks.to_string(), exe()])
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
+    c
+}
+
 /// `pdcontact run` of `scene` into `out` by `mpirun -n ranks`, on 1 thread each.
 fn on_ranks(ranks: usize, out: &Path, scene: &Path) -> std::process::Output {
-    Command::new("mpirun")
-        .args(["--oversubscribe", "-n", &ranks.to_string(), exe()])
+    mpirun(ranks)
         .args(["run", "--quiet", "-o"])
         .arg(out)
         .arg(scene)
         .env("RAYON_NUM_THREADS", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         .output()
         .expect("mpirun runs (install Open MPI: apt install openmpi-bin)")
 }
@@ -70,12 +77,7 @@ fn bench(spacing: &str, steps: &str, ranks: usize) -> serde_json::Value {
     let out = if ranks == 1 {
         Command::new(exe()).args(args).output()
     } else {
-        Command::new("mpirun")
-            .args(["--oversubscribe", "-n", &ranks.to_string(), exe()])
-            .args(args)
-            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-            .output()
+        mpirun(ranks).args(args).output()
     }
     .expect("runs");
     assert!(
