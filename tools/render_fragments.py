@@ -1,9 +1,11 @@
 """Renders a perforated plate and its projectile at one frame: the plate's particles coloured
-by `damage`, the projectile's grey, seen from below at an angle, where the hole and the
-fragments it throws out show (docs/FRACTURE.md, "Fragments").
+by `damage` (or another point field: `--colour new_surface`, the surfaces its cracks opened;
+`--colour fragment --max 20`, the pieces, 0 the largest),
+the projectile's grey, seen from below at an angle, where the hole and the fragments it throws
+out show (docs/FRACTURE.md, "Fragments").
 
     xvfb-run -a -s "-noreset" pvpython tools/render_fragments.py FRAME_FOLDER OUT.png \
-        [--plate plate] [--projectile ball]
+        [--plate plate] [--projectile ball] [--colour damage] [--max 1]
 
 FRAME_FOLDER is one frame's folder (`out/frame_004733`), holding `<body>_particles.vtu`.
 """
@@ -19,11 +21,13 @@ ap.add_argument("frame")
 ap.add_argument("out")
 ap.add_argument("--plate", default="plate")
 ap.add_argument("--projectile", default="ball")
+ap.add_argument("--colour", default="damage", help="the plate's point field to colour by")
+ap.add_argument("--max", type=float, default=1.0, help="the top of the colour range (from 0)")
 args = ap.parse_args()
 
 view = GetActiveViewOrCreate("RenderView")
 view.ViewSize = [1000, 800]
-for name, colour in [(args.plate, "damage"), (args.projectile, None)]:
+for name, colour in [(args.plate, args.colour), (args.projectile, None)]:
     path = os.path.join(args.frame, f"{name}_particles.vtu")
     warp = WarpByVector(Input=XMLUnstructuredGridReader(FileName=[path]))
     warp.Vectors = ["POINTS", "displacement"]
@@ -36,7 +40,7 @@ for name, colour in [(args.plate, "damage"), (args.projectile, None)]:
         ColorBy(shown, ("POINTS", colour))
         lut = GetColorTransferFunction(colour)
         lut.ApplyPreset("Inferno (matplotlib)", True)
-        lut.RescaleTransferFunction(0.0, 1.0)
+        lut.RescaleTransferFunction(0.0, args.max)
         shown.SetScalarBarVisibility(view, True)
     else:
         ColorBy(shown, None)

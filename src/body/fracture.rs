@@ -9,8 +9,9 @@
 //! What a broken bond leaves as built: the surface correction's factors and the skin
 //! correction of the particles around it (a particle near a new crack face keeps the
 //! stiffness of a bulk particle on its intact bonds), ADR's fictitious density (an upper bound
-//! of the stiffness, so still stable), and the contact surface (the eigenvalue surface is not
-//! recomputed: a crack's faces are not contact surfaces).
+//! of the stiffness, so still stable), and the contact's master segments (a crack's faces
+//! carry none). The eigenvalue surface is found again over the intact bonds where bonds broke
+//! ([`crate::body::new_surface`]), for the frames and the summary.
 //!
 //! Threads and ranks: whether a bond fails depends only on the positions of its two
 //! particles, so the set of bonds that fail in a step is the same whatever the thread or rank
@@ -19,6 +20,7 @@
 
 use rayon::prelude::*;
 
+use crate::body::new_surface::NewSurface;
 use crate::case::correction::volume_correction;
 pub use crate::case::crack_faces::CrackPatch;
 use crate::case::neighbours::BondList;
@@ -62,6 +64,8 @@ pub struct Fracture {
     /// fracture of the energy balance ([`crate::body::PdBody::break_failed`]); a pre-crack's
     /// bonds, cut before any load, hold none.
     pub work: Vec<f64>,
+    /// The surface the broken bonds opened ([`crate::body::new_surface`]).
+    pub surface: NewSurface,
 }
 
 impl Fracture {
@@ -108,6 +112,7 @@ impl Fracture {
             family,
             broken: 0,
             work: vec![0.0; n],
+            surface: NewSurface::new(n),
         }
     }
 
@@ -199,6 +204,7 @@ impl Fracture {
                 }
             }
             pairs.remove(i, j);
+            self.surface.broke(i, j);
             self.broken += 1;
         }
     }
@@ -212,6 +218,12 @@ impl Fracture {
     /// The fragments: groups of particles joined by intact bonds (mirror images aside), as
     /// the size of each, largest first.
     pub fn fragments(&self, bonds: &BondList) -> Vec<usize> {
+        self.fragment_labels(bonds).1
+    }
+
+    /// Each particle's fragment, numbered from 0 by size, largest first (equal sizes in the
+    /// order of their first particle), and the sizes in that order.
+    pub fn fragment_labels(&self, bonds: &BondList) -> (Vec<u32>, Vec<usize>) {
         let n = bonds.particles();
         let mut parent: Vec<u32> = (0..n as u32).collect();
         fn root(parent: &mut [u32], mut a: usize) -> usize {
@@ -232,13 +244,20 @@ impl Fracture {
                 }
             }
         }
+        // Roots are each group's first particle (the smaller root wins every union).
+        let roots: Vec<usize> = (0..n).map(|i| root(&mut parent, i)).collect();
         let mut size = vec![0usize; n];
-        for i in 0..n {
-            size[root(&mut parent, i)] += 1;
+        for &r in &roots {
+            size[r] += 1;
         }
-        let mut sizes: Vec<usize> = size.into_iter().filter(|&s| s > 0).collect();
-        sizes.sort_unstable_by(|a, b| b.cmp(a));
-        sizes
+        let mut order: Vec<usize> = (0..n).filter(|&r| size[r] > 0).collect();
+        order.sort_by(|&a, &b| size[b].cmp(&size[a]).then(a.cmp(&b)));
+        let mut label = vec![0u32; n];
+        for (k, &r) in order.iter().enumerate() {
+            label[r] = k as u32;
+        }
+        let labels = roots.iter().map(|&r| label[r]).collect();
+        (labels, order.iter().map(|&r| size[r]).collect())
     }
 }
 

@@ -12,6 +12,7 @@
 mod build;
 pub mod fracture;
 pub mod lps;
+pub mod new_surface;
 pub mod stress;
 
 pub use crate::case::crack_faces::CrackFaces;
@@ -390,6 +391,13 @@ impl PdBody {
             }
         }
         deepest
+    }
+
+    /// The surface that broken bonds opened, up to date ([`new_surface`]); `None` where
+    /// bonds do not fail.
+    pub fn new_surface(&self) -> Option<std::sync::MutexGuard<'_, new_surface::Found>> {
+        let f = self.fracture.as_ref()?;
+        Some(f.surface.current(&self.case, &self.reference, &f.intact))
     }
 
     /// Damage of particle `i` (0 where bonds do not fail).

@@ -55,6 +55,8 @@ pub struct SurfaceDetection {
     pub is_surface: Vec<bool>,
     /// Outward unit normal (Eq. 16) of a surface particle; zero inside the body.
     pub normal: Vec<Vec3>,
+    /// The local spacing `s_i`, the kernel width of Eq. 15 at each particle.
+    pub spacing: Vec<f64>,
 }
 
 impl SurfaceDetection {
@@ -110,7 +112,7 @@ fn kernel_moments(
 }
 
 /// The outward normal `−L⁻¹ Σ ∇W V` of Eq. 16, normalised; zero where the kernel sum cancels.
-fn outward_normal(l: &Matrix3<f64>, grad: &Vec3, h: f64) -> Vec3 {
+pub(crate) fn outward_normal(l: &Matrix3<f64>, grad: &Vec3, h: f64) -> Vec3 {
     let eig = SymmetricEigen::new(*l);
     // Pseudo-inverse: drop eigen-directions below 1e-6 of the largest.
     let lmax = eig.eigenvalues.max().max(0.0);
@@ -227,6 +229,7 @@ pub fn detect_surface(
             .map(|(r, &s)| if s { r.2 } else { Vec3::zeros() })
             .collect(),
         is_surface,
+        spacing: results.iter().map(|r| r.3).collect(),
     }
 }
 

@@ -467,6 +467,8 @@ fn point_fields(
     let states: Vec<PointState> = (0..at.len()).map(state).collect();
     let column = |c: usize| states.iter().map(|s| s.0[c]).collect::<Vec<Vec3>>();
     let case = &pd.case;
+    let opened_surface = pd.new_surface();
+    let opened = |i: usize| opened_surface.as_ref().is_some_and(|s| s.is_new[i]);
     let mut fields = vec![
         Field::vector("displacement", column(0)),
         Field::vector("velocity", column(1)),
@@ -479,15 +481,21 @@ fn point_fields(
             "von_mises",
             states.iter().map(|s| von_mises(&s.2)).collect(),
         ),
+        // The surface as built and what broken bonds opened since ([`crate::body::new_surface`]).
         Field::int(
             "surface",
             at.iter()
-                .map(|&i| case.surface.is_surface[i] as i32)
+                .map(|&i| (case.surface.is_surface[i] || opened(i)) as i32)
                 .collect(),
         ),
         Field::vector(
             "normal",
-            at.iter().map(|&i| case.surface.normal[i]).collect(),
+            at.iter()
+                .map(|&i| match &opened_surface {
+                    Some(s) if s.is_new[i] => s.normal[i],
+                    _ => case.surface.normal[i],
+                })
+                .collect(),
         ),
         // The mesh's own boundary nodes, beside the eigenvalue surface.
         Field::int(
@@ -502,11 +510,21 @@ fn point_fields(
             at.iter().map(|&i| case.particles.volume[i]).collect(),
         ),
     ];
-    // Where bonds may break: the share of each particle's family volume it has lost.
-    if pd.fracture.is_some() {
+    // Where bonds may break: the share of each particle's family volume it has lost, the
+    // surface the broken bonds opened, and the piece each particle is in (0 the largest).
+    if let Some(f) = &pd.fracture {
         fields.push(Field::scalar(
             "damage",
             at.iter().map(|&i| pd.damage(i)).collect(),
+        ));
+        fields.push(Field::int(
+            "new_surface",
+            at.iter().map(|&i| opened(i) as i32).collect(),
+        ));
+        let (fragment, _) = f.fragment_labels(&case.bonds);
+        fields.push(Field::int(
+            "fragment",
+            at.iter().map(|&i| fragment[i] as i32).collect(),
         ));
     }
     // Where the body is in a pair with friction: the shear traction (friction's force over

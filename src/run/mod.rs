@@ -164,8 +164,8 @@ impl RunSummary {
             .filter(|f| f.broken_bonds > 0)
             .map(|f| {
                 format!(
-                    "\"{}\" {} bonds broken, {} pieces",
-                    f.body, f.broken_bonds, f.fragments
+                    "\"{}\" {} bonds broken, {} pieces, {} particles on the surfaces they opened",
+                    f.body, f.broken_bonds, f.fragments, f.new_surface_particles
                 )
             })
             .collect();

@@ -160,6 +160,11 @@ pub struct FractureReport {
     /// deepest any of its particles went into another piece's surface over the run, in Δ.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub deepest_between_pieces: Option<f64>,
+    /// The surface the broken bonds opened ([`crate::body::new_surface`]): its particles,
+    /// the particles tested to find it, and the time that took (s).
+    pub new_surface_particles: usize,
+    pub new_surface_tested: usize,
+    pub new_surface_seconds: f64,
 }
 
 /// The [`FractureReport`] of each body with a failure state.
@@ -173,6 +178,7 @@ pub fn fracture_reports(model: &Model) -> Vec<FractureReport> {
             let f = pd.fracture.as_ref()?;
             let damage: Vec<f64> = (0..pd.len()).map(|i| f.damage(i)).collect();
             let fragments = f.fragments(&pd.case.bonds);
+            let surface = pd.new_surface()?;
             Some(FractureReport {
                 body: pd.name.clone(),
                 critical_stretch: f.critical_stretch,
@@ -187,6 +193,9 @@ pub fn fracture_reports(model: &Model) -> Vec<FractureReport> {
                     .iter()
                     .find(|p| p.body == k)
                     .map(|p| p.deepest.max(0.0)),
+                new_surface_particles: surface.count(),
+                new_surface_tested: surface.tested,
+                new_surface_seconds: surface.seconds,
             })
         })
         .collect()

@@ -103,6 +103,12 @@ pub struct PerforationResult {
     pub fragment_sizes: Vec<usize>,
     pub debris: usize,
     pub broken_bonds: usize,
+    /// The plate's particles on the surfaces its broken bonds opened at the end
+    /// ([`crate::body::new_surface`]), the particles tested to find them and the time that
+    /// took (s).
+    pub opened_surface: usize,
+    pub surface_tested: usize,
+    pub surface_seconds: f64,
     /// The deepest a particle of one piece went into another piece's surface over the run,
     /// in Δ, and a ball particle into the plate's.
     pub deepest_between_pieces: f64,
@@ -135,6 +141,7 @@ impl PerforationResult {
              plate spacing {dx:.2} mm, horizon {d:.2} mm, {n} particles; {s} steps of {dt:.3e} s, {w:.1} s\n\
              ball {p} the plate; it leaves at {v:.1} m/s\n\
              {b_} bonds broken; {f} fragments of {FRAGMENT_PARTICLES} particles or more (sizes {sizes:?}), {deb} smaller pieces\n\
+             surfaces the cracks opened: {os} particles, found again over the intact bonds ({st} particles tested, {ss:.3} s)\n\
              deepest into another piece's surface over the run: {dp:.3} Δ; ball into the plate: {db:.3} Δ\n\
              without the plate's contact with itself: {wd:.3} Δ, {wf} fragments\n\
              energy (J)         start        end\n\
@@ -160,6 +167,9 @@ impl PerforationResult {
             f = self.fragments,
             sizes = self.fragment_sizes,
             deb = self.debris,
+            os = self.opened_surface,
+            st = self.surface_tested,
+            ss = self.surface_seconds,
             dp = self.deepest_between_pieces,
             db = self.deepest_ball,
             wd = self.without_contact_deepest,
@@ -235,6 +245,9 @@ pub fn run_perforation(
         / mass;
     let energy = summary.solver.energy.unwrap_or_default();
     let start = energy[0].total();
+    let (opened_surface, surface_tested, surface_seconds) = plate
+        .new_surface()
+        .map_or((0, 0, 0.0), |f| (f.count(), f.tested, f.seconds));
     Ok(PerforationResult {
         spacing: plate.spacing(),
         horizon: plate.case.horizon,
@@ -243,6 +256,9 @@ pub fn run_perforation(
         debris: sizes.len() - fragment_sizes.len(),
         fragment_sizes,
         broken_bonds: plate.fracture.as_ref().map_or(0, |f| f.broken),
+        opened_surface,
+        surface_tested,
+        surface_seconds,
         deepest_between_pieces: model.fragments.first().map_or(0.0, |p| p.deepest.max(0.0)),
         deepest_ball: model
             .short_range
