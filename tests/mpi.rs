@@ -408,6 +408,7 @@ fn fracture_on_three_ranks() {
         displacement: 0.0005,
         steps: 5,
         mesh: None,
+        static_solver: false,
     };
     let path = dir.join("beam.toml");
     std::fs::write(&path, beam.scene(".")).expect("written");

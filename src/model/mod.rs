@@ -43,6 +43,10 @@ pub struct Model {
     pub domain: Option<Domain>,
     /// Ramped loads and prescribed displacements along a quasi-static load path.
     pub path: LoadPath,
+    /// Bonds do not fail in a force evaluation: the static solver breaks them between
+    /// equilibria ([`Model::break_overstretched`]), not at the trial states of its line
+    /// searches.
+    pub hold_bonds: bool,
 }
 
 impl Model {
@@ -215,6 +219,7 @@ impl Model {
             positions,
             domain: None,
             path,
+            hold_bonds: false,
         })
     }
 
@@ -403,18 +408,44 @@ impl Model {
             .sum()
     }
 
+    /// Breaks the bonds past their critical stretch at the current displacements (one
+    /// process; [`Model::hold_bonds`]) and returns how many broke. The forces are not
+    /// evaluated again.
+    pub fn break_overstretched(&mut self) -> usize {
+        let mut broken = 0;
+        for (body, pos) in self.bodies.iter_mut().zip(&mut self.positions) {
+            let Some(pd) = body.as_pd_mut() else { continue };
+            let Some(fr) = pd
+                .fracture
+                .as_ref()
+                .filter(|f| f.critical_stretch.is_some())
+            else {
+                continue;
+            };
+            pd.extended_positions(pos);
+            let failed = fr.failing(&pd.case.bonds, pos, &pd.reference, pd.owned.clone());
+            if !failed.is_empty() {
+                let before = pd.fracture.as_ref().map_or(0, |f| f.broken);
+                pd.break_failed(&failed, pos);
+                broken += pd.fracture.as_ref().map_or(0, |f| f.broken) - before;
+            }
+        }
+        broken
+    }
+
     /// Evaluates all forces at the current displacements.
     pub fn compute_forces(&mut self) {
         self.evaluations += 1;
         if let Some(d) = &self.domain {
             d.share_displacements(&mut self.bodies);
         }
-        let domain = &self.domain;
+        let (domain, hold) = (&self.domain, self.hold_bonds);
         for (k, (body, pos)) in self.bodies.iter_mut().zip(&mut self.positions).enumerate() {
             match body {
                 Body::Deformable(pd) => internal_forces_with(
                     pd,
                     pos,
+                    hold,
                     |v| {
                         if let Some(d) = domain {
                             d.share(k, v);
@@ -524,20 +555,21 @@ impl Model {
 /// Bond forces plus applied loads into `pd.force`; resets contact accumulators. `pos` is
 /// scratch space for the current positions (real particles, then mirror images).
 pub fn internal_forces(pd: &mut PdBody, pos: &mut Vec<Vec3>) {
-    internal_forces_with(pd, pos, |_| {}, |mine| mine);
+    internal_forces_with(pd, pos, false, |_| {}, |mine| mine);
 }
 
 /// [`internal_forces`] of the particles `pd.owned`, where `share` gives the ghosts the values
 /// of their owners (a decomposed run: the LPS's force states, between its two sweeps) and
 /// `all_failed` gives every rank the bonds that failed on any (collective).
 ///
-/// Bonds that pass their critical stretch at these positions fail first ([`Fracture`]): the
-/// forces are those of the bonds that hold.
+/// Bonds that pass their critical stretch at these positions fail first ([`Fracture`]), unless
+/// `hold`: the forces are those of the bonds that hold.
 ///
 /// [`Fracture`]: crate::body::Fracture
 fn internal_forces_with(
     pd: &mut PdBody,
     pos: &mut Vec<Vec3>,
+    hold: bool,
     share: impl FnOnce(&mut [Vec3]),
     all_failed: impl FnOnce(Vec<(u32, u32)>) -> Vec<(u32, u32)>,
 ) {
@@ -556,7 +588,7 @@ fn internal_forces_with(
     if let Some(fr) = pd
         .fracture
         .as_ref()
-        .filter(|f| f.critical_stretch.is_some())
+        .filter(|f| f.critical_stretch.is_some() && !hold)
     {
         let failed = all_failed(fr.failing(&pd.case.bonds, pos, &pd.reference, pd.owned.clone()));
         if !failed.is_empty() {

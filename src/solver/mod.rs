@@ -137,6 +137,9 @@ pub struct RunStats {
     /// Static: load steps halved because an increment did not converge.
     #[serde(skip_serializing_if = "is_zero")]
     pub cutbacks: usize,
+    /// Static: equilibria found again at the same load after bonds broke at one.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub refailed: usize,
     /// Static: the share of the load at the last equilibrium found (1 when converged).
     #[serde(skip_serializing_if = "is_zero_f64")]
     pub load_factor: f64,

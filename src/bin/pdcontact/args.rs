@@ -174,6 +174,10 @@ pub(crate) enum Command {
         /// instead of the box generator and a pre-crack; its spacing is the mesh's.
         #[arg(long)]
         beam_mesh: Option<PathBuf>,
+        /// The notched beam's solver: ADR, or the static solver (Newton, its bonds tested
+        /// near each equilibrium; the beam then held along its length under the striker).
+        #[arg(long, value_enum, default_value_t = BeamSolver::Adr)]
+        solver: BeamSolver,
         /// The beam's thickness B, m.
         #[arg(long, default_value_t = 0.008)]
         thickness: f64,
@@ -459,6 +463,15 @@ pub(crate) enum FrictionCase {
     Mindlin,
     /// A block on a tilted plane: at rest for tan θ ≤ μ, else g (sin θ − μ cos θ).
     Sliding,
+}
+
+/// `fracture --solver` (the notched beam).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub(crate) enum BeamSolver {
+    /// Adaptive dynamic relaxation, bonds tested at every iteration.
+    Adr,
+    /// Newton's method, bonds tested near each equilibrium.
+    Static,
 }
 
 /// `fracture --case`.

@@ -126,6 +126,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             spacing,
             plate_mesh,
             beam_mesh,
+            solver,
             thickness,
             displacement,
             steps,
@@ -192,6 +193,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 displacement,
                 steps,
                 mesh: beam_mesh,
+                static_solver: solver == BeamSolver::Static,
             };
             let r = pdcontact::studies::fracture::run_beam(&beam, &output, quiet)?;
             print_report(json, &r, || r.to_text());

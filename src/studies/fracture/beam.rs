@@ -36,6 +36,15 @@ pub fn lefm_peak_load(e_prime: f64, fracture_energy: f64, thickness: f64) -> f64
     k * thickness * w.powf(1.5) / (s * shape_factor(0.5))
 }
 
+/// The static solver's beam held along its length at the particle under the striker. On
+/// frictionless rollers, pressed from above, the beam sliding along its length lowers it on
+/// both rollers: the symmetric state is unstable along x. ADR's path keeps the symmetry of
+/// the scene to the bit and stays there; Newton's inexact steps do not, and the beam slid 1 mm
+/// off at a quarter of the travel. By symmetry the particle under the striker hardly moves
+/// along x in the symmetric state.
+const PIN: &str = "# The beam held along its length under the striker (frictionless rollers leave it free to slide).\n\
+                   [[constraint]]\nbody = \"beam\"\nnearest = [0.0, 0.0, 0.04]\nfix = [\"x\"]\n\n";
+
 /// One beam: its particle spacing, thickness, and the drive.
 #[derive(Clone, Debug)]
 pub struct NotchedBeam {
@@ -49,6 +58,8 @@ pub struct NotchedBeam {
     /// The beam as a mesh with its notch cut out as a slot (`tools/gmsh_beam.py`), in place
     /// of the box generator and the `[[precrack]]`; `spacing` is then the mesh's.
     pub mesh: Option<PathBuf>,
+    /// The static solver instead of ADR (its bonds tested near each equilibrium).
+    pub static_solver: bool,
 }
 
 impl NotchedBeam {
@@ -91,14 +102,16 @@ impl NotchedBeam {
         };
         format!(
             "# A notched three-point bend beam (ASTM E399: S = 4W, a/W = 0.5) broken under displacement control.\n\
-             [solver]\nkind = \"adr\"\nload_steps = {steps}\nmax_iterations = 1000000\n\n\
+             [solver]\nkind = \"{kind}\"\nload_steps = {steps}\nmax_iterations = 1000000\n\n\
              [output]\nfolder = \"{folder}\"\nevery = 100000\n\n\
              [[body]]\nname = \"beam\"\n\
              {body}\n\
              kinematics = \"small\"\n\
              material = {{ youngs_modulus = {YOUNGS:e}, poisson_ratio = 0.25, density = 1200, fracture_energy = {FRACTURE_ENERGY} }}\n\n\
              [[symmetry]]\nbody = \"beam\"\naxis = \"y\"\n\n\
-             {notch}{left}{right}{striker}",
+             {notch}{pin}{left}{right}{striker}",
+            kind = if self.static_solver { "static" } else { "adr" },
+            pin = if self.static_solver { PIN } else { "" },
             steps = self.steps,
             left = roller("left", -0.5 * s, -r, ""),
             right = roller("right", 0.5 * s, -r, ""),
@@ -137,6 +150,8 @@ pub struct BeamResult {
     pub crack_tip_height: f64,
     pub crack_offset: f64,
     pub broken_bonds: usize,
+    /// The solver (`"adr"` or `"static"`) and its iterations (Newton's for the static one).
+    pub solver: String,
     pub iterations: usize,
     pub wall_seconds: f64,
     /// The load-displacement chart.
@@ -152,7 +167,7 @@ impl BeamResult {
                 "notched three-point bend beam, W = {w} mm, B = {b} mm, a/W = 0.5: Δ = {dx:.3} mm, δ = {d:.2} mm (a/δ = {ad:.1}), {n} particles\n",
                 "peak load {p:.1} N at {u:.3} mm; LEFM {ps:.1} N in plane stress ({e1:+.1} %), {pe:.1} N in plane strain ({e2:+.1} %)\n",
                 "after the peak the load fell to {soft:.0} % of it; crack tip {tip:.1} mm above the bottom face (notch tip {a} mm), at most {off:.1} mm off the notch's plane\n",
-                "{bonds} bonds broken, {it} iterations, {wall:.1} s; chart {chart}\n",
+                "{bonds} bonds broken, {it} {word}, {wall:.1} s; chart {chart}\n",
             ),
             w = HEIGHT * 1e3,
             b = self.thickness * 1e3,
@@ -172,6 +187,11 @@ impl BeamResult {
             off = self.crack_offset * 1e3,
             bonds = self.broken_bonds,
             it = self.iterations,
+            word = if self.solver == "static" {
+                "Newton iterations (static solver)"
+            } else {
+                "ADR iterations"
+            },
             wall = self.wall_seconds,
             chart = self.chart.display(),
         )
@@ -249,6 +269,7 @@ pub fn run_beam(beam: &NotchedBeam, folder: &Path, quiet: bool) -> Result<BeamRe
         crack_tip_height: tip,
         crack_offset: offset,
         broken_bonds: summary.fracture.first().map_or(0, |f| f.broken_bonds),
+        solver: summary.solver.solver.clone(),
         iterations: summary.iterations,
         wall_seconds,
         chart: folder.join(LOAD_DISPLACEMENT_NAME),
