@@ -467,14 +467,9 @@ fn increment(
         // the trial states of the line searches (METHOD.md §9): the overstretched ones break,
         // and the iterations go on from there at the same load, until none breaks.
         if rel < FAILURE_TEST * tolerance && model.break_overstretched() > 0 {
-            // The bonds' tangent blocks and the step history change with the bonds.
-            bond_blocks.iter_mut().for_each(|b| *b = None);
-            previous_tangent = None;
-            previous = None;
+            restart(model, bond_blocks, stats);
+            (previous_tangent, previous, it) = (None, None, 0);
             history.clear();
-            stats.refailed += 1;
-            model.compute_forces();
-            it = 0;
             continue;
         }
         if rel < tolerance {
@@ -486,7 +481,15 @@ fn increment(
         // deformable bodies, each Newton step pressing another in by a fraction of a
         // millimetre with a force its bonds do not carry yet): ADR takes over from here.
         if stalled(&history) {
-            return Ok(if relax(model, tolerance, monitor, counts, stats)? {
+            let relaxed = relax(model, tolerance, monitor, counts, stats)?;
+            // ADR, its bonds held too, found the equilibrium: its bonds are tested there.
+            if relaxed && model.break_overstretched() > 0 {
+                restart(model, bond_blocks, stats);
+                (previous_tangent, previous, it) = (None, None, 0);
+                history.clear();
+                continue;
+            }
+            return Ok(if relaxed {
                 Increment::Converged
             } else if stats.interrupted {
                 Increment::Interrupted
@@ -536,6 +539,18 @@ fn increment(
         "{NEWTON_PER_INCREMENT} Newton iterations without reaching the tolerance (residual {:.3e})",
         stats.residual
     )))
+}
+
+/// After bonds broke near an equilibrium: their tangent blocks go with them, and Newton starts
+/// afresh at the same load from the forces of the bonds left.
+fn restart(
+    model: &mut Model,
+    bond_blocks: &mut [Option<Vec<nalgebra::Matrix3<f64>>>],
+    stats: &mut RunStats,
+) {
+    bond_blocks.iter_mut().for_each(|b| *b = None);
+    stats.refailed += 1;
+    model.compute_forces();
 }
 
 /// Whether an increment has stalled, from its relative residuals and contact counts so far:
