@@ -384,19 +384,7 @@ fn the_surface_a_run_opens_does_not_depend_on_when_it_is_asked_for() {
     let seen = |every: usize| {
         let text = perforation_scene(0.001, ".", every, None);
         let dir = common::temp_dir(&format!("new-surface-run-{every}"));
-        let path = dir.join("scene.toml");
-        std::fs::write(&path, text).expect("scene");
-        let scene = pdcontact::scene::Scene::load(&path).expect("scene loads");
-        let (model, summary) = pdcontact::run::run_scene(
-            &scene,
-            &pdcontact::run::RunOptions {
-                output: Some(dir.clone()),
-                quiet: true,
-                stop: None,
-                comm: None,
-            },
-        )
-        .expect("runs");
+        let (model, summary) = common::run_text_in(&text, &dir).expect("runs");
         let frames = std::fs::read_dir(&dir)
             .expect("output")
             .filter(|e| {

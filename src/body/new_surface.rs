@@ -112,9 +112,8 @@ pub struct Found {
     /// The completed volumes `V/ω` of the particles and their images (the build's), kept
     /// from the first update.
     volume: Vec<f64>,
-    /// Particles tested so far, and the bonds broken since the start.
+    /// Particles tested so far.
     pub tested: usize,
-    pub broken: usize,
     /// Time spent finding it, s.
     pub seconds: f64,
 }
@@ -142,7 +141,6 @@ impl Found {
         if j < n {
             self.pending.push(j as u32);
         }
-        self.broken += 1;
     }
 
     /// Tests again the particles that lost a bond since the last update, with `intact` the

@@ -129,18 +129,26 @@ pub fn try_run_text(
     name: &str,
 ) -> pdcontact::Result<(pdcontact::model::Model, pdcontact::run::RunSummary)> {
     let dir = temp_dir(name);
+    let out = run_text_in(text, &dir);
+    let _ = std::fs::remove_dir_all(&dir);
+    out
+}
+
+/// Runs the scene `text` with its outputs in `dir` (kept).
+pub fn run_text_in(
+    text: &str,
+    dir: &Path,
+) -> pdcontact::Result<(pdcontact::model::Model, pdcontact::run::RunSummary)> {
     let path = dir.join("scene.toml");
     std::fs::write(&path, text).expect("scene");
     let scene = pdcontact::scene::Scene::load(&path).expect("scene loads");
-    let out = pdcontact::run::run_scene(
+    pdcontact::run::run_scene(
         &scene,
         &pdcontact::run::RunOptions {
-            output: Some(dir.clone()),
+            output: Some(dir.to_path_buf()),
             quiet: true,
             stop: None,
             comm: None,
         },
-    );
-    let _ = std::fs::remove_dir_all(&dir);
-    out
+    )
 }
