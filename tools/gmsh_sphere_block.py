@@ -8,7 +8,9 @@ L x L x D block) whose corner at the origin touches the sphere's pole; its botto
 a symmetry plane (it holds u_z = 0 there: the block rests on a frictionless support).
 The block is meshed with size H within FINE of the contact point (a gmsh Distance field on
 the corner vertex and a Threshold field on it), growing linearly with slope GROWTH up to
-HMAX, nothing else set; --uniform meshes it at H throughout instead.
+HMAX, nothing else set; --uniform meshes it at H throughout instead. --order 2 meshes both
+bodies tet10 and writes second_order = "all-nodes" on both; --hex splits gmsh's tets into
+hexes (Mesh.SubdivisionAlgorithm = 2), as tools/gmsh_two_spheres.py does.
 
 Writes upper.msh, lower.msh and scene.toml (ADR, two passes; the load on the upper sphere,
 spread over it by volume, such that Hertz's contact radius for a sphere on a half-space of
@@ -19,6 +21,7 @@ figures and the node counts of the two meshes.
 
     python3 tools/gmsh_sphere_block.py DIR [H] [--l L] [--d D] [--hmax HMAX] [--fine FINE]
         [--growth G] [--uniform] [--h1 H1] [--r R] [--e E] [--a A] [--radius PENALTY]
+        [--order 2 | --hex]
 
 Defaults: H = 0.05, L = D = 4 m, HMAX = 0.3, FINE = 1.5a, G = 0.1, R = 1 m, E = 1 GPa,
 nu = 0.25, a = 0.3 m, penalty radius 4492 m. Compare with Hertz (R2 = 1e12 for the flat):
@@ -74,7 +77,7 @@ keep = "positive"
 """
 
 
-def block_part(path, half, depth, h, hmax, fine, growth, uniform):
+def block_part(path, half, depth, h, hmax, fine, growth, uniform, order, hexes):
     """The quarter block [0, half] x [0, half] x [-depth, 0], size h within `fine` of the
     origin growing with slope `growth` to hmax (or h throughout when `uniform`)."""
     gmsh.initialize()
@@ -102,7 +105,11 @@ def block_part(path, half, depth, h, hmax, fine, growth, uniform):
         for opt in ("Mesh.MeshSizeExtendFromBoundary", "Mesh.MeshSizeFromPoints",
                     "Mesh.MeshSizeFromCurvature"):
             gmsh.option.setNumber(opt, 0)
+    if hexes:
+        gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 2)
     gmsh.model.mesh.generate(3)
+    if order == 2:
+        gmsh.model.mesh.setOrder(2)
     n = len(gmsh.model.mesh.getNodes(3, -1, True, False)[0])
     gmsh.write(path)
     gmsh.finalize()
@@ -123,6 +130,8 @@ def main():
     p.add_argument("--r", type=float, default=1.0)
     p.add_argument("--e", type=float, default=1e9)
     p.add_argument("--a", type=float, default=0.3)
+    p.add_argument("--order", type=int, default=1, choices=[1, 2])
+    p.add_argument("--hex", action="store_true")
     p.add_argument("--radius", type=float, default=4492.0, help="penalty radius (what `run --check` advises for a = 0.3 m)")
     o = p.parse_args()
     os.makedirs(o.dir, exist_ok=True)
@@ -133,17 +142,19 @@ def main():
     e_star = o.e / (2.0 * (1.0 - nu * nu))
     load = 4.0 * e_star * o.a ** 3 / (3.0 * r_star)
     p0 = 3.0 * load / (2.0 * math.pi * o.a ** 2)
-    nu_ = sphere_part(os.path.join(o.dir, "upper.msh"), o.r, o.r, False, o.h1 or o.h, 1, False)
+    nu_ = sphere_part(os.path.join(o.dir, "upper.msh"), o.r, o.r, False, o.h1 or o.h, o.order, o.hex)
     nl = block_part(os.path.join(o.dir, "lower.msh"), 0.5 * o.l, depth, o.h, o.hmax, fine,
-                    o.growth, o.uniform)
-    mesh = (f"sphere tet4 H = {o.h1 or o.h} m, block tet4 " +
+                    o.growth, o.uniform, o.order, o.hex)
+    kind = "tet10" if o.order == 2 else "hexes from tets" if o.hex else "tet4"
+    mesh = (f"sphere {kind} H = {o.h1 or o.h} m, block {kind} " +
             (f"H = {o.h} m" if o.uniform else
              f"H = {o.h} m within {fine:g} m of the contact, slope {o.growth:g} to {o.hmax} m"))
+    second = 'second_order = "all-nodes"\n' if o.order == 2 else ""
     with open(os.path.join(o.dir, "scene.toml"), "w") as f:
         f.write(SCENE.format(
             r=o.r, l=o.l, hl=0.5 * o.l, d=depth, e=o.e, a=o.a, p0=p0, load=load, mesh=mesh,
-            upper=BODY.format(name="upper", second_order="", e=o.e),
-            lower=BODY.format(name="lower", second_order="", e=o.e),
+            upper=BODY.format(name="upper", second_order=second, e=o.e),
+            lower=BODY.format(name="lower", second_order=second, e=o.e),
             quarter=-load / 4.0, penalty=o.radius, zcut=-depth))
     print(f"P = {load:.6e} N (whole sphere), R* = {r_star:.6g} m, E* = {e_star:.6e} Pa, a = {o.a} m, "
           f"p0 = {p0:.6e} Pa; nodes: upper {nu_}, lower {nl}")
