@@ -346,3 +346,51 @@ fn one_pass_converges_to_the_slaves_figures() {
     );
     assert_same_figures(adr.bodies[0], newton.bodies[0]);
 }
+
+/// Before a damped explicit run, `run --check` names the damping that settles the loaded
+/// sphere's bounce on the contact fastest: critical, `2ω` with `ω² = (3P/(2δ))/m` (Hertz's
+/// approach `δ = a²/R*`, the whole sphere's mass: ω = 276 rad/s). Measured on this pair
+/// (docs/VALIDATION.md, "Two deformable bodies"): the force balance at 0.05 s was 2.2e-3 at
+/// c = 300 1/s, 3e-6 at 600 and 9.1e-2 at 1,500.
+#[test]
+fn run_check_gives_the_damping_that_settles_an_explicit_run() {
+    let dir = temp_dir("damping");
+    let path = dir.join("scene.toml");
+    let bounce = |damping: f64, end_time: f64| -> Vec<String> {
+        let text = scene("explicit", "tet4", true).replace(
+            "kind = \"explicit\"",
+            &format!("kind = \"explicit\"\nend_time = {end_time:e}\ndamping = {damping:e}"),
+        );
+        std::fs::write(&path, text).expect("scene written");
+        let (_, warnings, _) =
+            check_scene(&Scene::load(&path).expect("scene reads")).expect("the scene checks");
+        warnings
+            .into_iter()
+            .filter(|w| w.contains("bounces on the contact"))
+            .collect()
+    };
+    let (a, _) = hertz_sphere(LOAD, 0.5, two_spheres_e_star());
+    let mass = 1000.0 * 4.0 / 3.0 * std::f64::consts::PI;
+    let omega = (1.5 * LOAD / (a * a / 0.5) / mass).sqrt();
+    let light = bounce(300.0, 0.05);
+    assert_eq!(light.len(), 1, "{light:?}");
+    let critical: f64 = light[0]
+        .split("damping ≈ ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no critical damping in {:?}", light[0]));
+    assert!(
+        (critical / (2.0 * omega) - 1.0).abs() < 0.05,
+        "critical {critical} against 2ω = {}",
+        2.0 * omega
+    );
+    assert!(light[0].contains("of critical"), "{}", light[0]);
+    assert!(bounce(600.0, 0.05).is_empty());
+    let short = bounce(600.0, 0.01);
+    assert!(
+        short.len() == 1 && short[0].contains("longer than end_time"),
+        "{short:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

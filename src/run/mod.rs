@@ -3,6 +3,7 @@
 //! (its contact against the estimate, bodies that drifted).
 
 mod checks;
+pub mod damping;
 mod held;
 pub mod report;
 mod units;
@@ -315,6 +316,7 @@ pub fn check_scene(scene: &Scene) -> Result<(Model, Vec<String>, Vec<ContactReso
             .flat_map(ContactResolution::warnings),
     );
     warnings.extend(units::scale_warnings(scene, &model, &contact_estimates));
+    warnings.extend(damping::damping_warnings(scene, &model, &contact_estimates));
     Ok((model, warnings, contact_estimates))
 }
 

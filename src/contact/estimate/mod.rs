@@ -421,21 +421,15 @@ impl ContactResolution {
         if !(self.spacing > 0.0 && law.stiffness.is_finite() && law.stiffness > 0.0) {
             return self;
         }
-        let [k1, k2] = e.curvatures;
-        let (peak, depth) = match e.shape {
+        let depth = e.depth();
+        let peak = match e.shape {
             ContactShape::Point => {
-                let c = e.radius * (k1 / k2).cbrt();
-                (
-                    3.0 * e.load / (2.0 * std::f64::consts::PI * c * c),
-                    c * c * (k1 * k2).sqrt(),
-                )
+                let c = e.radius * (e.curvatures[0] / e.curvatures[1]).cbrt();
+                3.0 * e.load / (2.0 * std::f64::consts::PI * c * c)
             }
             ContactShape::Line => {
                 let per_length = e.load / e.line_length.unwrap_or(f64::INFINITY);
-                (
-                    2.0 * per_length / (std::f64::consts::PI * e.radius),
-                    e.radius * e.radius * k1,
-                )
+                2.0 * per_length / (std::f64::consts::PI * e.radius)
             }
         };
         let force = peak * self.spacing * self.spacing;
@@ -460,6 +454,26 @@ impl ContactResolution {
 }
 
 impl HertzEstimate {
+    /// The contact's depth, m: Hertz's approach `a²/R` of a sphere (`c²√(κ₁κ₂)` for an
+    /// ellipse of semi-major axis `c`), `b²κ₁` across a line contact (METHOD.md §7).
+    pub fn depth(&self) -> f64 {
+        let [k1, k2] = self.curvatures;
+        match self.shape {
+            ContactShape::Point => {
+                let c = self.radius * (k1 / k2).cbrt();
+                c * c * (k1 * k2).sqrt()
+            }
+            ContactShape::Line => self.radius * self.radius * k1,
+        }
+    }
+
+    /// The contact's normal stiffness under its load, `dP/dδ = 3P/(2δ)` (`P ∝ δ^{3/2}`,
+    /// METHOD.md §7), N/m; `None` across a line contact, whose approach is not a power of the
+    /// load.
+    pub fn stiffness(&self) -> Option<f64> {
+        (self.shape == ContactShape::Point).then(|| 1.5 * self.load / self.depth())
+    }
+
     /// "radius" or "half-width".
     pub fn what(&self) -> &'static str {
         match self.shape {
