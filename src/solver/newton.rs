@@ -15,9 +15,10 @@
 //! contacts have settled ([`STALL_WINDOW`]) is handed to ADR from the state Newton reached:
 //! between two deformable bodies the rim of a stiff contact can cycle, each Newton step
 //! pressing another rim slave in with a force its bonds do not carry yet, where ADR's damped
-//! steps settle it (docs/PERFORMANCE.md, "The static solver"). An increment that reaches the
-//! tolerance neither in [`NEWTON_PER_INCREMENT`] iterations nor by ADR starts again from the
-//! last equilibrium with half the load step, down to [`MIN_STEP`] of the load. Converged, as
+//! steps settle it (docs/PERFORMANCE.md, "The static solver"); so is one where Newton gives
+//! up (no descent direction, no sound step along it, [`NEWTON_PER_INCREMENT`] iterations).
+//! An increment that ADR does not bring to the tolerance either starts again from the last
+//! equilibrium with half the load step, down to [`MIN_STEP`] of the load. Converged, as
 //! ADR, when `‖R‖₂` over the free degrees of freedom is below `tolerance · ‖F_applied‖₂` (a
 //! run driven by displacements alone: against the contact forces and the prescribed
 //! displacements' reactions).
@@ -38,7 +39,7 @@ use crate::math::Vec3;
 use crate::model::Model;
 use crate::scene::Motion;
 
-/// Newton iterations an increment may take before it is cut back.
+/// Newton iterations an increment may take before ADR takes it over.
 pub const NEWTON_PER_INCREMENT: usize = 60;
 /// Force evaluations a line search may take.
 pub const LINE_SEARCH: usize = 8;
@@ -458,7 +459,10 @@ fn increment(
     let mut history = Vec::with_capacity(NEWTON_PER_INCREMENT);
     // Newton iterations since the increment started or bonds last broke.
     let mut it = 0;
-    while it < NEWTON_PER_INCREMENT {
+    // Why Newton gave up on this increment from a sound state: ADR takes over from there
+    // before the step is cut back.
+    let mut gave_up: Option<String> = None;
+    loop {
         let r = residual(model, &mut rhs);
         let rel = r / reference;
         stats.residual = rel;
@@ -470,6 +474,7 @@ fn increment(
             restart(model, bond_blocks, stats);
             (previous_tangent, previous, it) = (None, None, 0);
             history.clear();
+            gave_up = None;
             continue;
         }
         if rel < tolerance {
@@ -480,13 +485,32 @@ fn increment(
         // The contact's rim cycles (slaves at the rim of a stiff contact between two
         // deformable bodies, each Newton step pressing another in by a fraction of a
         // millimetre with a force its bonds do not carry yet): ADR takes over from here.
-        if stalled(&history) {
-            let relaxed = relax(model, tolerance, monitor, counts, stats)?;
+        // So does ADR where Newton gave up (no descent direction, no sound step along it,
+        // or too many iterations) from a sound state: cutting the step back and walking the
+        // load again from the last equilibrium cost the unequal gmsh spheres of
+        // docs/VALIDATION.md (154,470 particles, one pass) 7 cut-backs and 441 s, where ADR
+        // from the start takes 50 s (docs/PERFORMANCE.md, "The static solver").
+        if stalled(&history) || gave_up.is_some() {
+            let relaxed = match relax(model, tolerance, monitor, counts, stats) {
+                Ok(relaxed) => relaxed,
+                // Where Newton gave up, ADR's transient may carry a slave through its master:
+                // the step is cut back as it was before ADR took over.
+                Err(Error::Numerical(e)) if gave_up.is_some() => {
+                    // What went wrong, without the advice meant for an ADR run.
+                    let what = e.split("; likely cause").next().unwrap_or(&e);
+                    return Ok(Increment::Failed(format!(
+                        "{}, and ADR from there stopped: {what}",
+                        gave_up.unwrap_or_default()
+                    )));
+                }
+                Err(e) => return Err(e),
+            };
             // ADR, its bonds held too, found the equilibrium: its bonds are tested there.
             if relaxed && model.break_overstretched() > 0 {
                 restart(model, bond_blocks, stats);
                 (previous_tangent, previous, it) = (None, None, 0);
                 history.clear();
+                gave_up = None;
                 continue;
             }
             return Ok(if relaxed {
@@ -495,7 +519,8 @@ fn increment(
                 Increment::Interrupted
             } else {
                 Increment::Failed(format!(
-                    "Newton stalled at residual {rel:.3e}, and ADR from there did not reach the tolerance"
+                    "{}, and ADR from there did not reach the tolerance",
+                    gave_up.unwrap_or_else(|| format!("Newton stalled at residual {rel:.3e}"))
                 ))
             });
         }
@@ -523,22 +548,27 @@ fn increment(
         monitor.linear_iterations(counts.linear);
         let g0 = d.dot(&rhs);
         if !(g0 > 0.0) {
-            return Ok(Increment::Failed(format!(
+            gave_up = Some(format!(
                 "Newton iteration {it}: the linear solve gave no descent direction"
-            )));
+            ));
+            continue;
         }
+        // A failed line search leaves the state it started from (sound).
         if !line_search(model, &d, g0, &mut rhs) {
-            return Ok(Increment::Failed(format!(
+            gave_up = Some(format!(
                 "Newton iteration {it}: no step along the Newton direction keeps every slave outside its master"
-            )));
+            ));
+            continue;
         }
         previous_tangent = Some(tangent);
         it += 1;
+        if it >= NEWTON_PER_INCREMENT {
+            gave_up = Some(format!(
+                "{NEWTON_PER_INCREMENT} Newton iterations without reaching the tolerance (residual {:.3e})",
+                stats.residual
+            ));
+        }
     }
-    Ok(Increment::Failed(format!(
-        "{NEWTON_PER_INCREMENT} Newton iterations without reaching the tolerance (residual {:.3e})",
-        stats.residual
-    )))
 }
 
 /// After bonds broke near an equilibrium: their tangent blocks go with them, and Newton starts
