@@ -23,7 +23,7 @@ const SETTLED: f64 = 1e-3;
 const LIGHT: f64 = 0.7;
 
 /// The decay rate (1/s) of a mode of frequency `omega` under mass-proportional damping `c`.
-pub fn decay_rate(c: f64, omega: f64) -> f64 {
+fn decay_rate(c: f64, omega: f64) -> f64 {
     if c < 2.0 * omega {
         0.5 * c
     } else {
@@ -37,7 +37,7 @@ pub fn decay_rate(c: f64, omega: f64) -> f64 {
 /// and `m` the loaded body's mass with the same images. The loaded body is the pair's slave
 /// where loads act on it, else its master; a line contact, or a pair with no loaded
 /// deformable body, has none. Returns (slave, master, loaded body, ω).
-pub fn bounces<'a>(
+fn bounces<'a>(
     model: &'a Model,
     estimates: &'a [ContactResolution],
 ) -> impl Iterator<Item = (&'a str, &'a str, &'a str, f64)> + 'a {

@@ -3,7 +3,7 @@
 //! (its contact against the estimate, bodies that drifted).
 
 mod checks;
-pub mod damping;
+mod damping;
 mod held;
 pub mod report;
 mod units;
