@@ -236,3 +236,26 @@ fn the_kalthoff_plate_cracks_from_its_notch_tip() {
     assert!(r.broken_bonds > 0 && r.fragments < 10, "{r:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Kalthoff-Winkler at Δ = 1 mm stops at step 158 (docs/FRACTURE.md): a plate particle at the
+/// projectile's corner, crushed by the impact, goes through the projectile's face. The error
+/// says so by its cause (how much of the particle is left), not by the time step's or the
+/// penalty's.
+#[test]
+fn a_crushed_slave_is_named_as_the_cause_of_a_missed_contact() {
+    let dir = temp_dir("kalthoff-crushed");
+    let plate = KalthoffPlate {
+        spacing: 0.001,
+        end_time: pdcontact::studies::fracture::kalthoff::END_TIME,
+    };
+    let err = run_kalthoff(&plate, &dir, true)
+        .expect_err("the 1 mm plate's corner is crushed through the projectile's face")
+        .to_string();
+    assert!(err.contains("missed contact at step"), "{err}");
+    assert!(
+        err.contains("damage 0.") && err.contains("is crushed material"),
+        "{err}"
+    );
+    assert!(!err.contains("impact speed is too high"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -361,8 +361,14 @@ fn describe_miss(model: &Model, pass: &crate::contact::ContactPass) -> Option<St
         }
         Body::Rigid(_) => format!("face {segment}"),
     };
+    // A breaking body's slave says how much of it is left (a crushed one is let go).
+    let damage = if sb.fracture.is_some() {
+        format!(", damage {:.2}", sb.damage(slave as usize))
+    } else {
+        String::new()
+    };
     Some(format!(
-        "node {} of \"{}\", now at [{:.4e}, {:.4e}, {:.4e}], {:.3e} m behind {corners} of \"{}\"",
+        "node {} of \"{}\", now at [{:.4e}, {:.4e}, {:.4e}]{damage}, {:.3e} m behind {corners} of \"{}\"",
         node_id(sb, slave),
         sb.name,
         x.x,
@@ -370,6 +376,28 @@ fn describe_miss(model: &Model, pass: &crate::contact::ContactPass) -> Option<St
         x.z,
         -gap,
         master.name()
+    ))
+}
+
+/// The cause of a missed contact whose deepest slave is breaking (damage ≥ 0.1): the impact
+/// has crushed the material there, and a particle that has lost its bonds behind it is held
+/// against the master by the penalty alone (docs/FRACTURE.md, Kalthoff-Winkler).
+fn crushed_slave(model: &Model) -> Option<String> {
+    let (pass, slave, damage) = model
+        .passes
+        .iter()
+        .filter_map(|p| {
+            let (s, _, _) = p.deepest_miss?;
+            Some((p, s, model.bodies[p.slave].as_pd()?.damage(s as usize)))
+        })
+        .find(|&(_, _, d)| d >= 0.1)?;
+    let sb = model.bodies[pass.slave].as_pd()?;
+    let node = sb.case.mesh.node_ids[sb.case.particles.node[slave as usize] as usize];
+    Some(format!(
+        "node {node} of \"{}\" is crushed material: it has lost {:.0} % of its bonds (the contact crushed the edge there), the bonds it has left hardly hold it, and the penalty, set for intact surfaces, alone keeps it out of \"{}\"",
+        sb.name,
+        100.0 * damage,
+        model.bodies[pass.master].name()
     ))
 }
 
@@ -414,9 +442,9 @@ pub(super) fn check_missed(model: &Model, step: usize, what: &str, dt: Option<f6
             .collect();
         // A penalty that Hertz's estimate shows stiff enough did not let the slave through:
         // say so, and what did, rather than blame it.
-        let cause = match penalty_not_the_cause(model) {
-            Some(c) => c,
-            None => cause,
+        let cause = match (crushed_slave(model), penalty_not_the_cause(model)) {
+            (Some(c), _) | (None, Some(c)) => c,
+            (None, None) => cause,
         };
         let deepest = if deepest.is_empty() {
             String::new()
