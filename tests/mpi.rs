@@ -50,10 +50,11 @@ fn mpirun(ranks: usize) -> Command {
     c
 }
 
-/// `pdcontact run` of `scene` into `out` by `mpirun -n ranks`, on 1 thread each.
+/// `pdcontact run` of `scene` into `out` by `mpirun -n ranks`, on 1 thread each (not quiet:
+/// its last line is checked).
 fn on_ranks(ranks: usize, out: &Path, scene: &Path) -> std::process::Output {
     mpirun(ranks)
-        .args(["run", "--quiet", "-o"])
+        .args(["run", "-o"])
         .arg(out)
         .arg(scene)
         .env("RAYON_NUM_THREADS", "1")
@@ -103,6 +104,14 @@ fn both(scene: &Path, ranks: usize) -> (serde_json::Value, serde_json::Value) {
     let many = dir.join("many");
     let out = on_ranks(ranks, &many, scene);
     let b = summary(&out, &many);
+    // `run`'s last line says how the ranks shared the run.
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        said.contains(&format!("; {ranks} ranks: peak memory "))
+            && said.contains(" MB a rank, ghosts ")
+            && said.contains(" % of a rank's particles"),
+        "{said}"
+    );
     (a, b)
 }
 

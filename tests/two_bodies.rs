@@ -387,6 +387,26 @@ fn run_check_gives_the_damping_that_settles_an_explicit_run() {
     );
     assert!(light[0].contains("of critical"), "{}", light[0]);
     assert!(bounce(600.0, 0.05).is_empty());
+    // Run far past the time it settles in, the pair flutters: the advice says when to end.
+    let flutter = |end_time: f64| -> Vec<String> {
+        let text = scene("explicit", "tet4", true).replace(
+            "kind = \"explicit\"",
+            &format!("kind = \"explicit\"\nend_time = {end_time:e}\ndamping = 600.0"),
+        );
+        std::fs::write(&path, text).expect("scene written");
+        let (_, warnings, _) =
+            check_scene(&Scene::load(&path).expect("scene reads")).expect("the scene checks");
+        warnings
+            .into_iter()
+            .filter(|w| w.contains("then flutters"))
+            .collect()
+    };
+    let long = flutter(0.1);
+    assert!(
+        long.len() == 1 && long[0].contains("end it by about 0.07"),
+        "{long:?}"
+    );
+    assert!(flutter(0.05).is_empty());
     let short = bounce(600.0, 0.01);
     assert!(
         short.len() == 1 && short[0].contains("longer than end_time"),

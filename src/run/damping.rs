@@ -22,6 +22,13 @@ const SETTLED: f64 = 1e-3;
 /// contact's smoothed normal feeds a slow flutter that light damping does not outrun).
 const LIGHT: f64 = 0.7;
 
+/// How many times the settling time a damped explicit run between two deformable bodies
+/// keeps its settled figures: the two gmsh spheres at c = 600 1/s (settled to 1e-3 in
+/// 0.038 s by the rate) had ADR's figures to 0.01 points at 0.05 s (1.3 times it); at 0.1 s
+/// (2.6 times) a flutter had grown (force balance 3.1e-4 against 3e-6, MRE moved 0.2
+/// points; docs/VALIDATION.md, "Two deformable bodies").
+const FLUTTER_AFTER: f64 = 2.0;
+
 /// The decay rate (1/s) of a mode of frequency `omega` under mass-proportional damping `c`.
 fn decay_rate(c: f64, omega: f64) -> f64 {
     if c < 2.0 * omega {
@@ -88,6 +95,23 @@ pub(super) fn damping_warnings(
             let settle = |c: f64| (1.0 / SETTLED).ln() / decay_rate(c, omega);
             let light = c < LIGHT * critical;
             let short_run = end < settle(c);
+            let deformable = |name: &str| {
+                model
+                    .bodies
+                    .iter()
+                    .any(|b| b.name() == name && b.as_pd().is_some())
+            };
+            if !light && !short_run && deformable(slave) && deformable(master) {
+                return (end > FLUTTER_AFTER * settle(c)).then(|| {
+                    format!(
+                        "contact \"{slave}\"/\"{master}\": between two deformable bodies a damped explicit run settles (here in about {} s) and then flutters: the contact's force follows the master's smoothed normal, which is not the gradient of an energy, and feeds a vibration that grows once the bounce has died; end_time = {} s is {:.1} times the time it settles in: end it by about {} s, or solve the scene with kind = \"adr\" or \"static\" (docs/VALIDATION.md, \"Two deformable bodies\")",
+                        short(settle(c)),
+                        short(end),
+                        end / settle(c),
+                        short(FLUTTER_AFTER * settle(c))
+                    )
+                });
+            }
             (light || short_run).then(|| {
                 let why = if light {
                     format!(

@@ -175,12 +175,50 @@ impl RunSummary {
         } else {
             format!("; {}", broke.join(", "))
         };
+        let ranks = self
+            .decomposition
+            .as_ref()
+            .map_or(String::new(), ranks_line);
         format!(
-            "{head}{broke}, {:.1} s; frames in {}",
+            "{head}{broke}{ranks}, {:.1} s; frames in {}",
             self.wall_seconds,
             self.outputs.pvd.display()
         )
     }
+}
+
+/// How a decomposed run was spread over its ranks, for `run`'s last line: each rank's peak
+/// memory and its ghosts against the particles it owns (`summary.json`'s `decomposition`).
+fn ranks_line(d: &crate::model::domain::Layout) -> String {
+    let range = |v: &[f64], digits: usize| {
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+        if lo == hi {
+            format!("{lo:.digits$}")
+        } else {
+            format!("{lo:.digits$}-{hi:.digits$}")
+        }
+    };
+    let share: Vec<f64> = d
+        .particles
+        .iter()
+        .zip(&d.ghosts)
+        .map(|(&p, &g)| 100.0 * g as f64 / p.max(1) as f64)
+        .collect();
+    let memory: Vec<f64> = d.peak_memory_mb.iter().flatten().copied().collect();
+    let memory = if memory.len() == d.ranks {
+        format!("peak memory {} MB a rank, ", range(&memory, 0))
+    } else {
+        String::new()
+    };
+    format!(
+        "; {} ranks: {memory}ghosts {} % of a rank's particles",
+        d.ranks,
+        range(&share, 0)
+    )
 }
 
 /// Reaction and balance figures of the current state.
