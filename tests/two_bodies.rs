@@ -356,7 +356,8 @@ fn one_pass_converges_to_the_slaves_figures() {
 fn run_check_gives_the_damping_that_settles_an_explicit_run() {
     let dir = temp_dir("damping");
     let path = dir.join("scene.toml");
-    let bounce = |damping: f64, end_time: f64| -> Vec<String> {
+    // The warnings about `about` for the pair damped by `damping` to `end_time`.
+    let warned = |damping: f64, end_time: f64, about: &str| -> Vec<String> {
         let text = scene("explicit", "tet4", true).replace(
             "kind = \"explicit\"",
             &format!("kind = \"explicit\"\nend_time = {end_time:e}\ndamping = {damping:e}"),
@@ -364,11 +365,9 @@ fn run_check_gives_the_damping_that_settles_an_explicit_run() {
         std::fs::write(&path, text).expect("scene written");
         let (_, warnings, _) =
             check_scene(&Scene::load(&path).expect("scene reads")).expect("the scene checks");
-        warnings
-            .into_iter()
-            .filter(|w| w.contains("bounces on the contact"))
-            .collect()
+        warnings.into_iter().filter(|w| w.contains(about)).collect()
     };
+    let bounce = |damping: f64, end_time: f64| warned(damping, end_time, "bounces on the contact");
     let (a, _) = hertz_sphere(LOAD, 0.5, two_spheres_e_star());
     let mass = 1000.0 * 4.0 / 3.0 * std::f64::consts::PI;
     let omega = (1.5 * LOAD / (a * a / 0.5) / mass).sqrt();
@@ -388,19 +387,7 @@ fn run_check_gives_the_damping_that_settles_an_explicit_run() {
     assert!(light[0].contains("of critical"), "{}", light[0]);
     assert!(bounce(600.0, 0.05).is_empty());
     // Run far past the time it settles in, the pair flutters: the advice says when to end.
-    let flutter = |end_time: f64| -> Vec<String> {
-        let text = scene("explicit", "tet4", true).replace(
-            "kind = \"explicit\"",
-            &format!("kind = \"explicit\"\nend_time = {end_time:e}\ndamping = 600.0"),
-        );
-        std::fs::write(&path, text).expect("scene written");
-        let (_, warnings, _) =
-            check_scene(&Scene::load(&path).expect("scene reads")).expect("the scene checks");
-        warnings
-            .into_iter()
-            .filter(|w| w.contains("then flutters"))
-            .collect()
-    };
+    let flutter = |end_time: f64| warned(600.0, end_time, "then flutters");
     let long = flutter(0.1);
     assert!(
         long.len() == 1 && long[0].contains("end it by about 0.07"),

@@ -339,13 +339,15 @@ fn penalty_not_the_cause(model: &Model) -> Option<String> {
     ))
 }
 
+/// The mesh's node number of particle `i` (what a user finds in their mesh).
+fn node_id(pd: &crate::body::PdBody, i: u32) -> u64 {
+    pd.case.mesh.node_ids[pd.case.particles.node[i as usize] as usize]
+}
+
 /// Which particle of pass `pass` went deepest through which segment, in the mesh's numbering.
 fn describe_miss(model: &Model, pass: &crate::contact::ContactPass) -> Option<String> {
     let (slave, segment, gap) = pass.deepest_miss?;
     let sb = model.bodies[pass.slave].as_pd()?;
-    let node_id = |pd: &crate::body::PdBody, i: u32| {
-        pd.case.mesh.node_ids[pd.case.particles.node[i as usize] as usize]
-    };
     let x = sb.position(slave as usize);
     let master = &model.bodies[pass.master];
     let corners = match master {
@@ -392,7 +394,7 @@ fn crushed_slave(model: &Model) -> Option<String> {
         })
         .find(|&(_, _, d)| d >= 0.1)?;
     let sb = model.bodies[pass.slave].as_pd()?;
-    let node = sb.case.mesh.node_ids[sb.case.particles.node[slave as usize] as usize];
+    let node = node_id(sb, slave);
     Some(format!(
         "node {node} of \"{}\" is crushed material: it has lost {:.0} % of its bonds (the contact crushed the edge there), the bonds it has left hardly hold it, and the penalty, set for intact surfaces, alone keeps it out of \"{}\"",
         sb.name,
