@@ -24,6 +24,9 @@ use crate::math::Vec3;
 const TIP: [f64; 2] = [0.05, 0.025];
 /// Simulated time, s.
 pub const END_TIME: f64 = 9e-5;
+/// How far from the tip the angle at which the crack leaves it is measured, m: a quarter of the
+/// plate's depth, where a crack on the coarser plates has not yet bent.
+const LEAVING: f64 = 0.025;
 
 /// One plate: its particle spacing.
 #[derive(Clone, Debug)]
@@ -76,6 +79,9 @@ pub struct KalthoffResult {
     /// the tip; how many particles that is, and how far along the notch direction it reached
     /// (m from the hit edge; the plate is 0.1 m deep).
     pub crack_angle_deg: f64,
+    /// The same over the damaged particles within [`LEAVING`] of the tip: the angle at which
+    /// the crack leaves it (degrees).
+    pub leaving_angle_deg: f64,
     pub crack_particles: usize,
     pub crack_reach: f64,
     /// Damaged particles (≥ 0.35) elsewhere: between the plate's middle and the notch's line
@@ -94,13 +100,14 @@ impl KalthoffResult {
         format!(
             concat!(
                 "Kalthoff-Winkler plate, Δ = {dx} mm, δ = {d:.1} mm, {n} particles (plate and projectile)\n",
-                "crack from the notch tip at {a:.1}° to the notch (experiment about 70°, PD papers 65-70°), {c} damaged particles, reaching {r:.1} mm of the 100 mm plate\n",
+                "crack from the notch tip at {a:.1}° to the notch, leaving it at {l:.1}° (its first 25 mm; experiment about 70°, PD papers 65-70°), {c} damaged particles, reaching {r:.1} mm of the 100 mm plate\n",
                 "{o} damaged particles off that crack; {b} bonds broken, {f} fragments; {s} steps, {w:.1} s; frames in {dir}\n",
             ),
             dx = self.spacing * 1e3,
             d = self.horizon * 1e3,
             n = self.particles,
             a = self.crack_angle_deg,
+            l = self.leaving_angle_deg,
             c = self.crack_particles,
             r = self.crack_reach * 1e3,
             o = self.other_damaged,
@@ -122,7 +129,8 @@ pub fn run_kalthoff(plate: &KalthoffPlate, folder: &Path, quiet: bool) -> Result
         .find_map(|b| b.as_pd())
         .expect("the plate is deformable");
     let tip = Vec3::new(TIP[0], TIP[1], 0.0);
-    let (mut m, mut count, mut reach, mut other) = ([[0.0f64; 2]; 2], 0, 0.0f64, 0);
+    let (mut whole, mut leaving) = ([[0.0f64; 2]; 2], [[0.0f64; 2]; 2]);
+    let (mut count, mut reach, mut other) = (0, 0.0f64, 0);
     for i in 0..pd.len() {
         let x = pd.case.particles.position[i];
         if pd.damage(i) < 0.35 || x.x <= TIP[0] + pd.spacing() {
@@ -130,10 +138,9 @@ pub fn run_kalthoff(plate: &KalthoffPlate, folder: &Path, quiet: bool) -> Result
         }
         if x.y > TIP[1] {
             let p = [x.x - tip.x, x.y - tip.y];
-            for a in 0..2 {
-                for b in 0..2 {
-                    m[a][b] += p[a] * p[b];
-                }
+            add_moment(&mut whole, p);
+            if p[0].hypot(p[1]) <= LEAVING {
+                add_moment(&mut leaving, p);
             }
             count += 1;
             reach = reach.max(x.x);
@@ -141,18 +148,13 @@ pub fn run_kalthoff(plate: &KalthoffPlate, folder: &Path, quiet: bool) -> Result
             other += 1;
         }
     }
-    // The principal axis of the 2×2 second moment, taken pointing away from the hit edge.
-    let angle = 0.5 * (2.0 * m[0][1]).atan2(m[0][0] - m[1][1]);
-    let mut crack_angle_deg = angle.to_degrees();
-    if crack_angle_deg < 0.0 {
-        crack_angle_deg += 180.0;
-    }
     let f = summary.fracture.first();
     Ok(KalthoffResult {
         spacing: plate.spacing,
         horizon: pd.case.horizon,
         particles: summary.particles,
-        crack_angle_deg,
+        crack_angle_deg: principal_angle(&whole),
+        leaving_angle_deg: principal_angle(&leaving),
         crack_particles: count,
         crack_reach: reach,
         other_damaged: other,
@@ -162,4 +164,20 @@ pub fn run_kalthoff(plate: &KalthoffPlate, folder: &Path, quiet: bool) -> Result
         wall_seconds,
         folder: folder.to_path_buf(),
     })
+}
+
+/// Adds a point's second moment about the tip.
+fn add_moment(m: &mut [[f64; 2]; 2], p: [f64; 2]) {
+    for a in 0..2 {
+        for b in 0..2 {
+            m[a][b] += p[a] * p[b];
+        }
+    }
+}
+
+/// The principal axis of a 2×2 second moment as an angle to the notch direction (x), in
+/// [0°, 180°): the crack points away from the hit edge.
+fn principal_angle(m: &[[f64; 2]; 2]) -> f64 {
+    let angle = 0.5 * (2.0 * m[0][1]).atan2(m[0][0] - m[1][1]);
+    angle.to_degrees().rem_euclid(180.0)
 }
