@@ -1009,6 +1009,25 @@ mod tests {
     }
 
     #[test]
+    fn a_folded_neighbour_fades_out_continuously() {
+        let w = |deg: f64| folded_weight(deg.to_radians().cos() * 2.0, 2.0);
+        // Whole within the feature angle, nothing from 60° on, and no jump in between.
+        assert_eq!(w(0.0), 1.0);
+        assert_eq!(w(29.9), 1.0);
+        assert!(w(60.0) < 1e-12 && w(60.1) == 0.0);
+        assert_eq!(w(158.0), 0.0);
+        assert!((w(30.0) - 1.0).abs() < 1e-9 && w(60.0 - 1e-6) < 1e-6 && w(45.0) > 0.3);
+        let mut last = 1.0;
+        for k in 0..=300 {
+            let next = w(30.0 + 0.1 * f64::from(k));
+            assert!(next <= last && last - next < 0.01, "{k}: {last} -> {next}");
+            last = next;
+        }
+        // A degenerate segment (no area) adds nothing whatever its weight.
+        assert_eq!(folded_weight(0.0, 0.0), 1.0);
+    }
+
+    #[test]
     fn hertz_law_and_stiffness() {
         let m = (1.0 - 0.25f64 * 0.25) / 1e9;
         let k = hertz_stiffness(m, 0.0, 0.04);
