@@ -71,7 +71,8 @@ const FEATURE_COS: f64 = 0.866_025_403_784_438_6;
 /// Kalthoff plate), and averaged in whole, such a face turned the force away from the
 /// surface: a projectile's corner went through the plate at Δ = 0.75 mm. Where the material is
 /// whole the neighbours stay those of rest (the normal a continuous function of the nodes);
-/// the weight falls continuously, so it stays one where bonds broke too.
+/// where it has broken the weight falls continuously with the fold, so the normal changes
+/// only when the node loses its first bond.
 const FOLDED_COS: f64 = 0.5;
 
 /// The weight of a smooth neighbour whose area vector `a` makes `dot = a · n` with the
