@@ -60,7 +60,8 @@ impl ContactPass {
             let x = pd.reference[p as usize];
             shift[p as usize] = -f.normal * f.normal.dot(&(x - f.point));
         }
-        pass.reference_normals = super::reference_normals(super::MasterView::Shifted(pd, &shift));
+        pass.reference_normals =
+            super::normal::reference_normals(super::MasterView::Shifted(pd, &shift));
         pass.shift = std::sync::Arc::new(shift);
         pass
     }

@@ -37,6 +37,7 @@ pub mod fragments;
 pub mod friction;
 mod law;
 mod narrow;
+mod normal;
 pub mod overlap;
 pub mod shortrange;
 mod sums;
@@ -64,28 +65,6 @@ use narrow::within_window;
 /// and do not smooth its normal ([`ContactPass::smooth_normal`]).
 pub const FEATURE_ANGLE: f64 = std::f64::consts::PI / 6.0;
 const FEATURE_COS: f64 = 0.866_025_403_784_438_6;
-/// Around a master node whose particle has lost bonds, a smooth neighbour at rest that has
-/// turned from the segment a slave presses by more than [`FEATURE_ANGLE`] counts less in the
-/// nodal normal, down to nothing at this angle (60°). The edge of a plate crushed by an
-/// impact folds its faces over (158° between segments that were flush at rest on the
-/// Kalthoff plate), and averaged in whole, such a face turned the force away from the
-/// surface: a projectile's corner went through the plate at Δ = 0.75 mm. Where the material is
-/// whole the neighbours stay those of rest (the normal a continuous function of the nodes);
-/// where it has broken the weight falls continuously with the fold, so the normal changes
-/// only when the node loses its first bond.
-const FOLDED_COS: f64 = 0.5;
-
-/// The weight of a smooth neighbour whose area vector `a` makes `dot = a · n` with the
-/// normal `n` of the segment a slave presses (`norm = |a|`): 1 within [`FEATURE_ANGLE`],
-/// falling linearly in the cosine to 0 at [`FOLDED_COS`]'s angle.
-fn folded_weight(dot: f64, norm: f64) -> f64 {
-    if dot >= FEATURE_COS * norm {
-        1.0
-    } else {
-        ((dot / norm - FOLDED_COS) / (FEATURE_COS - FOLDED_COS)).clamp(0.0, 1.0)
-    }
-}
-
 /// Skin of the Verlet list, in slave spacings.
 pub const SKIN: f64 = 0.3;
 /// The contact window, in slave spacings (the paper's 0.5Δ).
@@ -124,27 +103,6 @@ fn plane_edge(segment: &MasterSegment, on: impl Fn(u32) -> bool) -> Option<(usiz
         (2, 0, b) if b == corners - 1 => Some((b, 0)),
         _ => None,
     }
-}
-
-/// Each segment's unit normal at rest (zero for a degenerate one): a deformable master's
-/// reference positions (a crack's faces shifted onto its plane), a rigid one's vertices (it
-/// only translates).
-fn reference_normals(view: MasterView) -> Vec<Vec3> {
-    let reference = |n: u32| match view {
-        MasterView::Pd(b) => b.reference[n as usize],
-        MasterView::Shifted(b, shift) => b.reference[n as usize] + shift[n as usize],
-        MasterView::Rigid(b) => b.vertices[n as usize],
-    };
-    view.segments()
-        .iter()
-        .map(|s| {
-            let c = s.nodes.map(reference);
-            (c[2] - c[0])
-                .cross(&(c[3] - c[1]))
-                .try_normalize(0.0)
-                .unwrap_or_else(Vec3::zeros)
-        })
-        .collect()
 }
 
 /// A read-only view of a master surface: node positions and segments.
@@ -382,7 +340,7 @@ impl ContactPass {
             .collect();
         master_nodes.sort_unstable();
         master_nodes.dedup();
-        let reference_normals = reference_normals(view);
+        let reference_normals = normal::reference_normals(view);
         let window = law.window;
         // A slave inside a segment's projection within the window is at most this far from the
         // segment's nearest corner.
@@ -616,84 +574,6 @@ impl ContactPass {
             .into_iter()
             .filter_map(|r| r.0.map(|c| c.0))
             .collect();
-    }
-
-    /// The direction of a contact's force: the master's normal interpolated at the slave's
-    /// projection, `Σ N_a n_a` normalised, from the nodal normals `n_a` of the segment's
-    /// corners (the area-weighted mean of the current normals of the segments around each
-    /// corner that lay within [`FEATURE_ANGLE`] of this one at rest, and around a node that has
-    /// lost bonds those that have turned past it since weighed less, down to nothing at 60°
-    /// ([`FOLDED_COS`]); on a symmetry plane of the master, in the plane, as the segments'
-    /// mirror images make it).
-    ///
-    /// A faceted master's own normal turns by the angle between two facets where a slave
-    /// crosses their edge, and a slave pressed onto a master node sits at the apex of the
-    /// dimple it makes there, where every facet around tilts towards it: measured on two gmsh
-    /// tet spheres pressed together, slaves on master nodes held lateral out-of-balance forces
-    /// of a fifth of their contact force (the facets tilted 11°), and ADR stalled at a
-    /// residual of 0.14. The interpolated normal is continuous across edges and vertices (as
-    /// FE codes smooth a master surface); a feature edge (a punch's corner) keeps its facets'
-    /// own normals, and a segment with no smooth neighbour (a rigid plane's large faces)
-    /// keeps its own. The gap stays the one measured against the segment (Eq. 21).
-    ///
-    /// Which segments are smooth neighbours is decided once, at rest: chosen on the current
-    /// normals, a neighbour dropped out of the mean wherever the slaves dimpled a deformable
-    /// master by more than the feature angle, the normal jumped by 10° between iterations at
-    /// the same projection, and with one pass between two gmsh tet spheres neither solver found
-    /// an equilibrium (docs/VALIDATION.md, "Two deformable bodies", one pass).
-    fn smooth_normal(&self, view: MasterView, segment: u32, pr: &Projection) -> Vec3 {
-        let segs = view.segments();
-        let own = pr.normal;
-        let nodes = segs[segment as usize].nodes;
-        let corners = if segs[segment as usize].is_triangle() {
-            3
-        } else {
-            4
-        };
-        let mut n = Vec3::zeros();
-        for k in 0..corners {
-            let w = pr.weights[k];
-            if w == 0.0 {
-                continue;
-            }
-            let node = nodes[k] as usize;
-            let Some(around) = self
-                .node_seg_offsets
-                .get(node)
-                .zip(self.node_seg_offsets.get(node + 1))
-                .map(|(&a, &b)| &self.node_segs[a as usize..b as usize])
-            else {
-                n += own * w;
-                continue;
-            };
-            let mut nodal = Vec3::zeros();
-            let this = self.reference_normals[segment as usize];
-            let broken = view.pd().is_some_and(|mb| mb.damage(node) > 0.0);
-            for &t in around {
-                // A smooth neighbour at rest stays one: the set does not change as the
-                // surface deforms, so the normal is a continuous function of the nodes.
-                if self.reference_normals[t as usize].dot(&this) > FEATURE_COS {
-                    let x = view.corners(t as usize);
-                    // Twice the area times the unit normal (Eq. 18's diagonals).
-                    let a = (x[2] - x[0]).cross(&(x[3] - x[1]));
-                    nodal += if broken {
-                        a * folded_weight(a.dot(&own), a.norm())
-                    } else {
-                        a
-                    };
-                }
-            }
-            if let Some(mb) = view.pd() {
-                let on = mb.case.ghosts.on_plane.get(node).copied().unwrap_or(0);
-                for (b, plane) in mb.case.ghosts.planes.iter().enumerate() {
-                    if on & (1 << b) != 0 {
-                        nodal[plane.axis] = 0.0;
-                    }
-                }
-            }
-            n += nodal.try_normalize(0.0).unwrap_or(own) * w;
-        }
-        n.try_normalize(0.0).unwrap_or(own)
     }
 
     /// Adds this pass's forces and contact stiffness to the bodies.
@@ -1007,25 +887,6 @@ mod tests {
         assert!((p.gap - 0.2).abs() < 1e-12);
         assert!((p.weights.iter().sum::<f64>() - 1.0).abs() < 1e-12);
         assert!(project(Vec3::new(0.8, 0.8, 0.0), x, true).is_none());
-    }
-
-    #[test]
-    fn a_folded_neighbour_fades_out_continuously() {
-        let w = |deg: f64| folded_weight(deg.to_radians().cos() * 2.0, 2.0);
-        // Whole within the feature angle, nothing from 60° on, and no jump in between.
-        assert_eq!(w(0.0), 1.0);
-        assert_eq!(w(29.9), 1.0);
-        assert!(w(60.0) < 1e-12 && w(60.1) == 0.0);
-        assert_eq!(w(158.0), 0.0);
-        assert!((w(30.0) - 1.0).abs() < 1e-9 && w(60.0 - 1e-6) < 1e-6 && w(45.0) > 0.3);
-        let mut last = 1.0;
-        for k in 0..=300 {
-            let next = w(30.0 + 0.1 * f64::from(k));
-            assert!(next <= last && last - next < 0.01, "{k}: {last} -> {next}");
-            last = next;
-        }
-        // A degenerate segment (no area) adds nothing whatever its weight.
-        assert_eq!(folded_weight(0.0, 0.0), 1.0);
     }
 
     #[test]
