@@ -484,3 +484,36 @@ method = "short-range"
         f.message
     );
 }
+
+/// A model larger than the memory the process may use (here `ulimit -v`; a cgroup's limit
+/// alike) is refused before its bonds are made, with what it would need and what to do,
+/// instead of being killed part way: exit code 2, nothing written.
+#[test]
+fn a_model_past_the_memory_limit_is_refused_before_its_bonds() {
+    let dir = temp_dir("memory");
+    // 51 × 51 × 26 particles: about 0.4 GB with their bonds, against a 256 MB address space.
+    let text =
+        scene("kind = \"adr\"", 10, 0.0, CONTACT).replace("spacing = 0.25", "spacing = 0.02");
+    std::fs::write(dir.join("scene.toml"), text).expect("scene");
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 250000 && exec '{}' run --quiet scene.toml",
+            env!("CARGO_BIN_EXE_pdcontact")
+        ))
+        .current_dir(&dir)
+        .env("RAYON_NUM_THREADS", "1")
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    for said in [
+        "body \"block\"",
+        "67626 particles",
+        "past the 256 MB it may use (its address-space limit (ulimit -v))",
+        "mpirun -n",
+    ] {
+        assert!(err.contains(said), "{said:?} in {err}");
+    }
+    assert!(!dir.join("out").join("summary.json").exists());
+}

@@ -136,6 +136,25 @@ fn assert_identical(a: &serde_json::Value, b: &serde_json::Value) {
     assert_eq!(a["solver"]["iterations"], b["solver"]["iterations"]);
 }
 
+/// Each rank of `b` built its part of the model: it holds at most `share` of the model's
+/// bonds (its own particles' and its halo's), and the shares cover the model.
+fn assert_built_in_parts(b: &serde_json::Value, share: f64) {
+    let d = &b["decomposition"];
+    let model = num(d, "model_bonds");
+    assert_eq!(model, num(b, "bonds"), "{d}");
+    let held: Vec<f64> = d["bonds"]
+        .as_array()
+        .expect("per rank")
+        .iter()
+        .map(|x| x.as_f64().expect("a count"))
+        .collect();
+    assert!(
+        held.iter().all(|&h| h <= share * model),
+        "{held:?} of {model}"
+    );
+    assert!(held.iter().sum::<f64>() >= model, "{held:?} of {model}");
+}
+
 /// The demo (a sphere on a rigid plane, quarter model with symmetry planes): the ranks hold
 /// ghosts across the cut and mirror images of their own particles.
 #[test]
@@ -144,6 +163,7 @@ fn demo_on_two_ranks() {
     write_demo(&dir);
     let (a, b) = both(&dir.join("scene.toml"), 2);
     assert_identical(&a, &b);
+    assert_built_in_parts(&b, 0.65);
     // Each rank's peak memory, as the kernel counts it, beside what it owned.
     let peaks = b["decomposition"]["peak_memory_mb"]
         .as_array()
@@ -229,6 +249,7 @@ fn two_deformable_bodies_on_three_ranks() {
     let scene = ball_on_block("dent", "two_pass = true");
     let (a, b) = both(&scene, 3);
     assert_identical(&a, &b);
+    assert_built_in_parts(&b, 0.5);
     assert!((num(&b, "force_balance_error")) < 2e-3, "{b}");
 }
 

@@ -61,6 +61,7 @@ pub fn read_format(path: &Path, data: &[u8], format: Format) -> Result<Mesh, Imp
     }?;
     let quality = quality_warnings(&mesh);
     mesh.warnings.extend(quality);
+    mesh.shrink_to_fit();
     Ok(mesh)
 }
 

@@ -284,6 +284,17 @@ impl<'a> ElementRef<'a> {
 }
 
 impl Mesh {
+    /// Gives back what the readers' growing arrays hold beyond their length (up to half of
+    /// a large mesh's memory, which a run keeps to its end).
+    pub fn shrink_to_fit(&mut self) {
+        self.node_ids.shrink_to_fit();
+        self.coords.shrink_to_fit();
+        self.element_ids.shrink_to_fit();
+        self.element_kinds.shrink_to_fit();
+        self.element_offsets.shrink_to_fit();
+        self.connectivity.shrink_to_fit();
+    }
+
     /// An empty mesh with `element_offsets` initialised.
     pub fn new() -> Mesh {
         Mesh {

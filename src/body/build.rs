@@ -3,6 +3,8 @@
 //! (METHOD.md §1, §4, §6). The scene has checked the spec's values (scene/check.rs); what
 //! only the mesh shows is reported here, at the body's line.
 
+use std::sync::Arc;
+
 use nalgebra::{Rotation3, Unit};
 use pdcontact_importers::{boundary_faces, read_path, ElementKind, Format, Mesh};
 
@@ -15,7 +17,10 @@ use crate::case::segments::{quad_area_normal, MasterSegment};
 use crate::case::{CaseOptions, PdCase, SymmetryPlane, DEFAULT_HORIZON_FACTOR, MAX_REFINE};
 use crate::error::{Error, Result};
 use crate::math::{unit, Vec3, NOT_A_PARTICLE};
-use crate::scene::{box_corner, BodyKind, BodySpec, MaterialModel, PrecrackSpec, Scene, Side};
+use crate::parallel::Comm;
+use crate::scene::{
+    box_corner, BodyKind, BodySpec, MaterialModel, PrecrackSpec, Scene, Side, SolverKind,
+};
 
 /// Loads the mesh of a body spec (file or generator), transformed.
 pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
@@ -295,6 +300,27 @@ pub fn clip_mesh(
 
 /// Builds the body of a spec.
 pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
+    build_body_on(scene, spec, None)
+}
+
+/// Whether a rank of a decomposed run builds only its part of the body's case
+/// ([`crate::case::part`]): a bond-based body without bond failure under ADR. The LPS's
+/// states, fracture's damage and the explicit solver's stable step still read every
+/// particle's bonds, so those bodies are built whole on every rank.
+fn built_in_parts(scene: &Scene, spec: &BodySpec) -> bool {
+    let Some(m) = spec.material else {
+        return false;
+    };
+    m.model == MaterialModel::BondBased
+        && m.fracture_energy.is_none()
+        && m.critical_stretch.is_none()
+        && !scene.precracks.iter().any(|c| c.body == spec.name)
+        && scene.solver.kind == SolverKind::Adr
+}
+
+/// [`build_body`] in a run decomposed over the ranks of `comm`: a body that can be
+/// ([`built_in_parts`]) is built as this rank's part. Collective.
+pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>>) -> Result<Body> {
     let mut mesh = body_mesh(scene, spec)?;
     if let Some(m) = &mut mesh {
         for s in scene.symmetries.iter().filter(|s| s.body == spec.name) {
@@ -368,12 +394,17 @@ pub fn build_body(scene: &Scene, spec: &BodySpec) -> Result<Body> {
                             .any(|c| c.slave == spec.name || c.master == spec.name)),
             };
             let (method, skin) = (options.correction, options.skin_correction);
-            let mut case = PdCase::build(mesh, options).map_err(|e| match e {
-                Error::Input(msg) => {
-                    scene.error_in_body(&spec.name, "", &format!("body \"{}\": {msg}", spec.name))
-                }
-                other => other,
-            })?;
+            let in_parts = built_in_parts(scene, spec);
+            let mut case = PdCase::build_part(mesh, options, comm.cloned(), in_parts).map_err(
+                |e| match e {
+                    Error::Input(msg) => scene.error_in_body(
+                        &spec.name,
+                        "",
+                        &format!("body \"{}\": {msg}", spec.name),
+                    ),
+                    other => other,
+                },
+            )?;
             if case.particles.is_empty() {
                 return Err(scene.error_in_body(
                     &spec.name,

@@ -16,7 +16,7 @@ pub mod new_surface;
 pub mod stress;
 
 pub use crate::case::crack_faces::CrackFaces;
-pub use build::{body_mesh, build_body, clip_mesh};
+pub use build::{body_mesh, build_body, build_body_on, clip_mesh};
 pub use fracture::Fracture;
 pub use lps::Lps;
 
@@ -259,6 +259,10 @@ impl PdBody {
                 bond_weight.push(w as f32);
                 stiffness[i] += w;
             }
+        }
+        // A rank's part holds its halo's rows in part: their stiffness is their owners'.
+        if let Some(p) = &case.part {
+            p.gather_scalar(&mut stiffness);
         }
         // Particles on a symmetry plane cannot move across it.
         let fixed: Vec<FixMask> = (0..n)

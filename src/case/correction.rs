@@ -30,6 +30,7 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use crate::case::neighbours::BondList;
+use crate::case::part::CasePart;
 use crate::math::Vec3;
 
 /// Turns the two ends' per-axis values into `1/ḡ²` per axis.
@@ -406,10 +407,13 @@ pub fn surface_correction(
 ) -> SurfaceCorrection {
     let source: Vec<usize> = (0..position.len()).collect();
     let horizon = Horizon::uniform(horizon, spacing);
-    surface_correction_with(position, volume, &source, bonds, &horizon, method)
+    surface_correction_with(position, volume, &source, bonds, &horizon, method, None)
 }
 
-/// [`surface_correction`] with an explicit image → source map.
+/// [`surface_correction`] with an explicit image → source map, and on a rank's `part` of a
+/// decomposed case: there the rows of its own particles are complete, each Sinkhorn pass
+/// refines their factors and sends them to the ranks that hold them in their halo, and the
+/// stopping test and the figures are over all ranks, so that the factors are one process's.
 pub fn surface_correction_with(
     position: &[Vec3],
     volume: &[f64],
@@ -417,8 +421,24 @@ pub fn surface_correction_with(
     bonds: &BondList,
     horizon: &Horizon,
     method: CorrectionMethod,
+    part: Option<&CasePart>,
 ) -> SurfaceCorrection {
     let n = bonds.particles();
+    let owned = part.map_or(0..n, CasePart::owned);
+    let share = |v: &mut [[f64; 3]]| {
+        if let Some(p) = part {
+            p.share(v);
+        }
+    };
+    // The figures over every rank's own particles.
+    let max_error = |w: &[[f64; 3]]| {
+        let mine = max_error(&w[owned.clone()]);
+        part.map_or(mine, |p| p.max(mine))
+    };
+    let unbalanced = |w: &[[f64; 3]]| {
+        let mine = unbalanced(&w[owned.clone()]);
+        part.map_or(mine, |p| p.total(mine))
+    };
     let energies = |f: &(dyn Fn(usize, usize, [f64; 3]) -> f64 + Sync)| {
         relative_energies(position, volume, bonds, horizon, f)
     };
@@ -444,16 +464,24 @@ pub fn surface_correction_with(
                 passes,
             };
         }
-        CorrectionMethod::Ellipsoid => (first_g, |gi, gj| {
-            std::array::from_fn(|k| {
-                let m = 0.5 * (gi[k] + gj[k]);
-                1.0 / (m * m)
-            })
-        }),
+        CorrectionMethod::Ellipsoid => (
+            {
+                let mut g = first_g;
+                share(&mut g);
+                g
+            },
+            |gi, gj| {
+                std::array::from_fn(|k| {
+                    let m = 0.5 * (gi[k] + gj[k]);
+                    1.0 / (m * m)
+                })
+            },
+        ),
         CorrectionMethod::Balanced => {
             let combine: Combine = |ri, rj| std::array::from_fn(|k| ri[k] * rj[k]);
             // Iterate on r = 1/g, so that 1/ḡ² = r_i r_j costs one product per axis.
             let mut r: Vec<[f64; 3]> = first_g.iter().map(|g| g.map(|x| 1.0 / x)).collect();
+            share(&mut r);
             // What a pass needs of each bond, computed once: the pass runs up to MAX_PASSES
             // times and is bound by memory, so single precision halves its traffic; the
             // iteration only has to reach 1 %, and the final factors below are in f64.
@@ -472,10 +500,10 @@ pub fn surface_correction_with(
                 passes += 1;
                 // An axis held at its bound with its energy pushing past it cannot improve
                 // further: the stopping test is over the others.
-                let free_error = w
+                let free_error = w[owned.clone()]
                     .iter()
-                    .zip(&r)
-                    .zip(&bounds)
+                    .zip(&r[owned.clone()])
+                    .zip(&bounds[owned.clone()])
                     .flat_map(|((wi, ri), bi)| {
                         (0..3)
                             .filter(move |&k| {
@@ -485,6 +513,7 @@ pub fn surface_correction_with(
                             .map(move |k| (wi[k] - 1.0).abs())
                     })
                     .fold(0.0, f64::max);
+                let free_error = part.map_or(free_error, |p| p.max(free_error));
                 if free_error < BALANCE_TOLERANCE || passes >= MAX_PASSES {
                     last_w = Some(w);
                     break;
@@ -501,6 +530,7 @@ pub fn surface_correction_with(
                         }
                     }
                 }
+                share(&mut r);
             }
             (r.iter().map(|ri| ri.map(|x| 1.0 / x)).collect(), combine)
         }
@@ -536,6 +566,10 @@ pub fn surface_correction_with(
                 }
             }
         });
+    let mut g = g;
+    if let Some(p) = part {
+        p.gather(&mut g);
+    }
     SurfaceCorrection {
         g,
         bond_factor,

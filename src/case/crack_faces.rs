@@ -190,6 +190,7 @@ impl PdCase {
                 local: local.as_deref(),
             },
             method,
+            None,
         );
         for (&(k, patch), lost) in patches.iter().zip(&lost_of) {
             out.faces
@@ -210,6 +211,7 @@ impl PdCase {
                 &input,
                 &self.bonds,
                 &mut self.correction.bond_factor,
+                None,
             ));
         }
         Ok(out)

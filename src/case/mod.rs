@@ -23,6 +23,7 @@ pub mod discretize;
 pub mod generators;
 pub mod neighbours;
 pub mod pairs;
+pub mod part;
 pub mod segments;
 pub mod sight;
 pub mod skin;
@@ -38,7 +39,8 @@ use crate::case::correction::{
     surface_correction_with, CorrectionMethod, Horizon, SurfaceCorrection,
 };
 use crate::case::discretize::{discretize, Discretization};
-use crate::case::neighbours::{build_bonds_from, build_bonds_variable, BondList};
+use crate::case::neighbours::{build_bond_rows, count_bonds, BondList, Reach};
+use crate::case::part::CasePart;
 use crate::case::segments::{master_segments, SegmentSet};
 use crate::case::skin::{skin_correction, SkinCorrection, SkinInput};
 use crate::case::surface::{detect_surface, SurfaceDetection, NORMAL_KERNEL_WIDTH};
@@ -366,6 +368,48 @@ pub struct SurfaceAgreement {
     pub extra: usize,
 }
 
+/// The rows a rank of `comm` holds and its [`CasePart`]: the particles cut over the ranks by
+/// their bond counts, the rows of its own particles whole, and of its halo (their partners'
+/// sources) the bonds to its own particles alone, as
+/// [`PairList::restricted`](pairs::PairList::restricted) keeps them. Collective.
+fn rows_of_rank(
+    position: &[Vec3],
+    n: usize,
+    reach: Reach,
+    ghosts: &Ghosts,
+    comm: std::sync::Arc<dyn crate::parallel::Comm>,
+) -> (BondList, CasePart) {
+    let cost: Vec<usize> = count_bonds(position, n, reach)
+        .into_iter()
+        .map(|c| c + 1)
+        .collect();
+    let ranges = crate::parallel::split_by_cost(&cost, comm.size(), crate::reduction::BLOCK);
+    drop(cost);
+    let owned = ranges[comm.rank()].clone();
+    let mut halo = vec![false; n];
+    {
+        let own = build_bond_rows(position, n, reach, |i| owned.contains(&i));
+        for i in owned.clone() {
+            for b in own.range(i) {
+                let j = ghosts.source_of(own.partner[b] as usize, n);
+                halo[j] |= !owned.contains(&j);
+            }
+        }
+    }
+    // Rows are searched for the particles of the range and the halo; a halo row keeps the
+    // bonds to the range (a mirror image's bond belongs to its particle's row alone).
+    let bonds = {
+        let (owned, halo) = (&owned, &halo);
+        let s = neighbours::Search::new(reach, n);
+        let active = |i: usize| owned.contains(&i) || halo[i];
+        neighbours::build_rows_with(position, n, &s, active, |i, j| {
+            owned.contains(&i) || owned.contains(&j)
+        })
+    };
+    let part = CasePart::new(comm, ranges, &halo);
+    (bonds, part)
+}
+
 /// Everything the pipeline derives from one mesh.
 #[derive(Clone, Debug)]
 pub struct PdCase {
@@ -396,6 +440,12 @@ pub struct PdCase {
     pub segments: SegmentSet,
     /// Mirror images across symmetry planes (empty without planes).
     pub ghosts: Ghosts,
+    /// This rank's part, where the case was built as one ([`PdCase::build_part`]): then
+    /// `bonds` holds the rows of its own particles and of its halo only.
+    pub part: Option<CasePart>,
+    /// Whether the mesh had second-order elements to split and was first-order tets and
+    /// hexes alone, where its elements were let go ([`PdCase::release_elements`]).
+    pub elements_released: Option<[bool; 2]>,
     pub times: StageTimes,
 }
 
@@ -403,16 +453,63 @@ impl PdCase {
     /// Second-order elements of the file whose corners alone are particles
     /// ([`SecondOrder::Corners`] on a mesh with a tet10 or hex20 to cut).
     pub fn corners_of_second_order(&self) -> bool {
-        self.second_order == SecondOrder::Corners && pdcontact_importers::has_splittable(&self.mesh)
+        self.second_order == SecondOrder::Corners
+            && self.elements_released.map_or_else(
+                || pdcontact_importers::has_splittable(&self.mesh),
+                |[splittable, _]| splittable,
+            )
     }
 
     /// A first-order mesh of tets and hexes that was not refined: `refine = 1` would cut it.
     pub fn refinable(&self) -> bool {
-        self.refine == 0 && refinable_mesh(&self.mesh)
+        self.refine == 0
+            && self
+                .elements_released
+                .map_or_else(|| refinable_mesh(&self.mesh), |[_, refinable]| refinable)
+    }
+
+    /// Keeps of the mesh its nodes (their numbers name particles in messages, their box sizes
+    /// the scene) and its warnings. Once a model is made, the elements and sets have given
+    /// their particles, faces and loads, and they are most of a large mesh (a run lets them
+    /// go: on a 1M-node tet mesh about 180 MB on every rank); what the case tells of them
+    /// later ([`Self::corners_of_second_order`], [`Self::refinable`]) it remembers.
+    pub fn release_elements(&mut self) {
+        if self.elements_released.is_none() {
+            self.elements_released = Some([
+                pdcontact_importers::has_splittable(&self.mesh),
+                refinable_mesh(&self.mesh),
+            ]);
+            let mesh = std::mem::take(&mut self.mesh);
+            self.mesh = Mesh {
+                node_ids: mesh.node_ids,
+                coords: mesh.coords,
+                warnings: mesh.warnings,
+                ..Mesh::new()
+            };
+        }
     }
 
     /// Builds the case from a mesh.
     pub fn build(mesh: Mesh, options: CaseOptions) -> Result<PdCase> {
+        PdCase::build_part(mesh, options, None, false)
+    }
+
+    /// Directed bonds of the whole case (over all ranks where it is a part).
+    pub fn bond_count(&self) -> usize {
+        self.part.as_ref().map_or(self.bonds.len(), |p| p.bonds)
+    }
+
+    /// [`PdCase::build`] on a rank of `comm` (collective): as the rank's part where `in_parts`
+    /// and there are several ranks ([`part`]), the same case, bit for bit, in the rows this
+    /// rank needs; else whole. Either way a case that would take the process past the memory
+    /// it may use is refused before its bonds are made ([`part::check_memory`]; `in_parts`
+    /// in one process: a run over ranks would build it so, which the refusal advises).
+    pub fn build_part(
+        mesh: Mesh,
+        options: CaseOptions,
+        comm: Option<std::sync::Arc<dyn crate::parallel::Comm>>,
+        in_parts: bool,
+    ) -> Result<PdCase> {
         if !(options.horizon_factor > 0.0 && options.horizon_factor.is_finite()) {
             return Err(Error::input(format!(
                 "horizon factor must be positive, got {}",
@@ -427,7 +524,8 @@ impl PdCase {
         }
         let mut times = StageTimes::default();
         let t = Instant::now();
-        let mesh = refine(options.second_order.apply(mesh), options.refine);
+        let mut mesh = refine(options.second_order.apply(mesh), options.refine);
+        mesh.shrink_to_fit();
         let mut particles = discretize(&mesh, options.spacing)?;
         let spacing = particles.spacing;
         let all_faces = boundary_faces(&mesh);
@@ -487,13 +585,31 @@ impl PdCase {
         let mut position = Vec::new();
         ghosts.extend_positions(&particles.position, &mut position);
         let extended_spacing = local_spacing.as_ref().map(|s| ghosts.extend(s));
-        let bonds = match &extended_spacing {
-            Some(s) => {
-                let reaches: Vec<f64> = s.iter().map(|&x| reach_of(x)).collect();
-                build_bonds_variable(&position, particles.len(), &reaches)
-            }
-            None => build_bonds_from(&position, particles.len(), reach),
+        let reaches: Option<Vec<f64>> = extended_spacing
+            .as_ref()
+            .map(|s| s.iter().map(|&x| reach_of(x)).collect());
+        let bond_reach = match &reaches {
+            Some(r) => Reach::PerPoint(r),
+            None => Reach::Uniform(reach),
         };
+        let n = particles.len();
+        let comm = comm.filter(|c| c.size() > 1);
+        let parts = comm.as_ref().filter(|_| in_parts).map(|c| c.size());
+        part::check_memory(
+            n,
+            options.horizon_factor,
+            parts.map_or(1.0, |k| 1.08 / k as f64),
+            comm.as_ref(),
+            in_parts,
+        )?;
+        let (bonds, mut part) = match comm.filter(|_| in_parts) {
+            None => (build_bond_rows(&position, n, bond_reach, |_| true), None),
+            Some(comm) => {
+                let (bonds, part) = rows_of_rank(&position, n, bond_reach, &ghosts, comm);
+                (bonds, Some(part))
+            }
+        };
+        let owned = part.as_ref().map_or(0..n, CasePart::owned);
         // A slot, notch or crack the mesh has, narrower than the horizon: the bonds across
         // it go, before the corrections see its faces.
         let across_gaps = sight::bonds_across_gaps(
@@ -510,7 +626,17 @@ impl PdCase {
         } else {
             bonds.without(&across_gaps)
         };
-        let bonds_across_gaps = across_gaps.len();
+        let bonds_across_gaps = across_gaps
+            .iter()
+            .filter(|&&(i, _)| owned.contains(&(i as usize)))
+            .count();
+        let bonds_across_gaps = part
+            .as_ref()
+            .map_or(bonds_across_gaps, |p| p.total(bonds_across_gaps));
+        if let Some(p) = &mut part {
+            let mine = bonds.offsets[owned.end] - bonds.offsets[owned.start];
+            p.bonds = p.total(mine);
+        }
         times.neighbours = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
@@ -527,9 +653,8 @@ impl PdCase {
 
         // A spacing far below the mesh's own leaves particles without partners: such a body has
         // no stiffness and the first step divides by zero.
-        let lonely = (0..bonds.particles())
-            .filter(|&i| bonds.range(i).is_empty())
-            .count();
+        let lonely = owned.clone().filter(|&i| bonds.range(i).is_empty()).count();
+        let lonely = part.as_ref().map_or(lonely, |p| p.total(lonely));
         if particles.len() > 1 && 2 * lonely > particles.len() {
             return Err(Error::input(format!(
                 "{lonely} of {} particles have no bond: the horizon δ = {:.4e} (spacing {spacing:.4e} × horizon factor {}) is shorter than the distance between the mesh's nodes; give a spacing near the mesh's element size, or none to use the lattice spacing of its particles' median volume",
@@ -555,6 +680,7 @@ impl PdCase {
                 local: extended_spacing.as_deref(),
             },
             options.correction,
+            part.as_ref(),
         );
         times.correction = t.elapsed().as_secs_f64();
 
@@ -576,7 +702,7 @@ impl PdCase {
                 ghosts: &ghosts,
                 horizon,
             };
-            skin_correction(&input, &bonds, &mut correction.bond_factor)
+            skin_correction(&input, &bonds, &mut correction.bond_factor, part.as_ref())
         });
         times.correction += t.elapsed().as_secs_f64();
 
@@ -597,6 +723,8 @@ impl PdCase {
             skin,
             segments,
             ghosts,
+            part,
+            elements_released: None,
             times,
         })
     }

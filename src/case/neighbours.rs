@@ -259,27 +259,125 @@ pub fn build_pairs(points: &[Vec3], radius: f64) -> BondList {
 /// horizon follows its local spacing ([`crate::case::correction::Horizon`]). The criterion is
 /// symmetric, so `j` is a partner of `i` exactly when `i` is one of `j`.
 pub fn build_bonds_variable(points: &[Vec3], queries: usize, reach: &[f64]) -> BondList {
-    assert_eq!(points.len(), reach.len());
-    let widest = reach.iter().copied().fold(0.0, f64::max);
-    let mut typical: Vec<f64> = reach[..queries].to_vec();
-    let typical = if typical.is_empty() {
-        widest
-    } else {
-        let mid = typical.len() / 2;
-        *typical.select_nth_unstable_by(mid, f64::total_cmp).1
-    };
+    build_bond_rows(points, queries, Reach::PerPoint(reach), |_| true)
+}
+
+/// How far bonds reach: one radius ([`build_bonds_from`]) or one per point
+/// ([`build_bonds_variable`]).
+#[derive(Clone, Copy, Debug)]
+pub enum Reach<'a> {
+    Uniform(f64),
+    PerPoint(&'a [f64]),
+}
+
+/// The search of a [`Reach`]: the typical radius (the grid's cell), each row's search
+/// radius, and the test of a candidate at squared distance `d²`.
+pub(crate) struct Search<'a> {
+    reach: Reach<'a>,
+    typical: f64,
+    widest: f64,
+}
+
+impl<'a> Search<'a> {
+    pub(crate) fn new(reach: Reach<'a>, queries: usize) -> Search<'a> {
+        match reach {
+            Reach::Uniform(r) => Search {
+                reach,
+                typical: r,
+                widest: r,
+            },
+            Reach::PerPoint(reach) => {
+                let widest = reach.iter().copied().fold(0.0, f64::max);
+                let mut typical: Vec<f64> = reach[..queries].to_vec();
+                let typical = if typical.is_empty() {
+                    widest
+                } else {
+                    let mid = typical.len() / 2;
+                    *typical.select_nth_unstable_by(mid, f64::total_cmp).1
+                };
+                Search {
+                    reach: Reach::PerPoint(reach),
+                    typical,
+                    widest,
+                }
+            }
+        }
+    }
+
+    fn radius(&self, i: usize) -> f64 {
+        match self.reach {
+            Reach::Uniform(r) => r,
+            Reach::PerPoint(reach) => 0.5 * (reach[i] + self.widest),
+        }
+    }
+
+    fn bonded(&self, i: usize, j: usize, d2: f64) -> bool {
+        match self.reach {
+            Reach::Uniform(r) => d2 <= r * r,
+            Reach::PerPoint(reach) => {
+                let r = 0.5 * (reach[i] + reach[j]);
+                d2 <= r * r
+            }
+        }
+    }
+}
+
+/// The bonds [`build_bonds_from`] or [`build_bonds_variable`] give the rows `active(i)`, the
+/// other rows empty: the rows a rank of a decomposed run holds, in memory proportional to
+/// them ([`crate::case::part`]).
+pub fn build_bond_rows(
+    points: &[Vec3],
+    queries: usize,
+    reach: Reach,
+    active: impl Fn(usize) -> bool + Sync,
+) -> BondList {
+    if let Reach::PerPoint(r) = reach {
+        assert_eq!(points.len(), r.len());
+    }
+    build_rows_with(
+        points,
+        queries,
+        &Search::new(reach, queries),
+        active,
+        |_, _| true,
+    )
+}
+
+/// [`build_bond_rows`] keeping of each row `i` only the partners `j` with `keep(i, j)`.
+pub(crate) fn build_rows_with(
+    points: &[Vec3],
+    queries: usize,
+    s: &Search,
+    active: impl Fn(usize) -> bool + Sync,
+    keep: impl Fn(usize, usize) -> bool + Sync,
+) -> BondList {
     build_with(
         points,
         queries,
-        typical,
-        |i| 0.5 * (reach[i] + widest),
-        |_| true,
-        |i, j, d2| {
-            let r = 0.5 * (reach[i] + reach[j]);
-            d2 <= r * r
-        },
+        s.typical,
+        |i| s.radius(i),
+        active,
+        |i, j, d2| keep(i, j) && s.bonded(i, j, d2),
         false,
     )
+}
+
+/// Per row, how many bonds [`build_bond_rows`] gives it, without holding them: what a rank
+/// needs to cut the particles over the ranks by cost before it builds its rows.
+pub fn count_bonds(points: &[Vec3], queries: usize, reach: Reach) -> Vec<usize> {
+    let s = Search::new(reach, queries);
+    let grid = CellGrid::new(points, 0.5 * s.typical);
+    (0..queries)
+        .into_par_iter()
+        .map(|i| {
+            let mut n = 0;
+            grid.for_each_candidate(&points[i], s.radius(i), |j| {
+                let j = j as usize;
+                n += (j != i && s.bonded(i, j, (points[j] - points[i]).norm_squared())) as usize
+            });
+            n
+        })
+        .collect()
 }
 
 /// Per point, how many pairs `(i, j > i)` within `radius` [`build_pairs`] gives it, without
@@ -462,6 +560,39 @@ mod tests {
                 assert!(bonds.partner[bonds.range(j)].contains(&(i as u32)));
             }
         }
+    }
+
+    #[test]
+    fn counts_and_rows_are_the_whole_lists() {
+        // An irregular cloud with a reach that varies from point to point.
+        let pts: Vec<Vec3> = (0..600u64)
+            .map(|i| {
+                let h = |k: u64| ((i * 2654435761 + k * 40503) % 1000) as f64 / 100.0;
+                Vec3::new(h(1), h(2), h(3))
+            })
+            .collect();
+        let reach: Vec<f64> = (0..pts.len()).map(|i| 1.5 + (i % 7) as f64 * 0.1).collect();
+        for r in [Reach::Uniform(1.8), Reach::PerPoint(&reach)] {
+            let whole = build_bond_rows(&pts, 500, r, |_| true);
+            let count = count_bonds(&pts, 500, r);
+            let rows = build_bond_rows(&pts, 500, r, |i| (100..250).contains(&i));
+            assert_eq!(rows.particles(), 500);
+            for i in 0..500 {
+                assert_eq!(count[i], whole.range(i).len());
+                if (100..250).contains(&i) {
+                    assert_eq!(rows.partner[rows.range(i)], whole.partner[whole.range(i)]);
+                    assert_eq!(rows.length[rows.range(i)], whole.length[whole.range(i)]);
+                } else {
+                    assert!(rows.range(i).is_empty());
+                }
+            }
+        }
+        let uniform = build_bonds_from(&pts, 500, 1.8);
+        let rows = build_bond_rows(&pts, 500, Reach::Uniform(1.8), |_| true);
+        assert_eq!(
+            (uniform.offsets, uniform.partner),
+            (rows.offsets, rows.partner)
+        );
     }
 
     #[test]

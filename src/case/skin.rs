@@ -23,6 +23,7 @@
 
 use crate::case::correction::micromodulus;
 use crate::case::neighbours::BondList;
+use crate::case::part::CasePart;
 use crate::case::{mirror_direction, Ghosts};
 use crate::math::Vec3;
 
@@ -60,17 +61,19 @@ pub struct SkinInput<'a> {
     pub horizon: f64,
 }
 
-/// Scales `bond_factor` in place (see the module's doc).
+/// Scales `bond_factor` in place (see the module's doc). On a rank's `part` of a decomposed
+/// case each particle's factor comes from its owner, whose row of bonds is complete.
 pub fn skin_correction(
     input: &SkinInput,
     bonds: &BondList,
     bond_factor: &mut [f64],
+    part: Option<&CasePart>,
 ) -> SkinCorrection {
     let n = input.volume.len();
     // σ_nn / (c ε) for the uniaxial strain of a bond-based solid (ν = 1/4): (λ + 2μ) / c
     // = 1.2 E π δ⁴ / (12 E).
     let modulus_over_c = 1.2 / micromodulus(1.0, input.horizon);
-    let factor: Vec<f64> = (0..n)
+    let mut factor: Vec<f64> = (0..n)
         .map(|i| {
             if !input.is_surface[i] || input.pressure_area[i] <= 0.0 {
                 return 1.0;
@@ -96,6 +99,9 @@ pub fn skin_correction(
             (1.0 + (need + s3) / -s5).clamp(FACTOR_BOUNDS.0, FACTOR_BOUNDS.1)
         })
         .collect();
+    if let Some(p) = part {
+        p.gather_scalar(&mut factor);
+    }
     let ghosts = input.ghosts;
     for i in 0..bonds.particles() {
         for b in bonds.range(i) {

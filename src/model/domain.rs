@@ -43,6 +43,12 @@ pub struct Layout {
     pub ghosts: Vec<usize>,
     /// Per rank: its peak resident memory so far (`VmHWM`), MB; null where unknown.
     pub peak_memory_mb: Vec<Option<f64>>,
+    /// Per rank: the directed bonds it holds, over all bodies (a body built whole holds all
+    /// of its own on every rank; one built as parts, its particles' and its halo's,
+    /// [`crate::case::part`]).
+    pub bonds: Vec<usize>,
+    /// Directed bonds of the whole model.
+    pub model_bonds: usize,
 }
 
 /// This rank's part of a decomposed model and the messages that keep it current.
@@ -94,8 +100,14 @@ impl Domain {
             };
             let n = pd.len();
             let bonds = &pd.case.bonds;
-            let cost: Vec<usize> = (0..n).map(|i| bonds.range(i).len() + 1).collect();
-            let r = split_by_cost(&cost, size, crate::reduction::BLOCK);
+            // A case built as a part was cut before its bonds existed.
+            let r = match &pd.case.part {
+                Some(part) => part.ranges.clone(),
+                None => {
+                    let cost: Vec<usize> = (0..n).map(|i| bonds.range(i).len() + 1).collect();
+                    split_by_cost(&cost, size, crate::reduction::BLOCK)
+                }
+            };
             let mut need = vec![false; n];
             for i in r[rank].clone() {
                 for b in bonds.range(i) {
@@ -150,8 +162,18 @@ impl Domain {
     }
 
     /// Per rank: the particles it owns, the ghosts it receives each evaluation (over all
-    /// bodies) and its peak memory so far. Collective.
-    pub fn layout(&self) -> Layout {
+    /// bodies), the bonds it holds and its peak memory so far. Collective.
+    pub fn layout(&self, bodies: &[Body]) -> Layout {
+        let held: usize = bodies
+            .iter()
+            .filter_map(Body::as_pd)
+            .map(|pd| pd.case.bonds.len())
+            .sum();
+        let model_bonds = bodies
+            .iter()
+            .filter_map(Body::as_pd)
+            .map(|pd| pd.case.bond_count())
+            .sum();
         let owned: usize = self
             .ranges
             .iter()
@@ -161,17 +183,19 @@ impl Domain {
         let peak = crate::parallel::memory::peak_rss_mb().unwrap_or(f64::NAN);
         let all = self
             .comm
-            .all_gather(&[owned as f64, self.ghosts() as f64, peak]);
+            .all_gather(&[owned as f64, self.ghosts() as f64, peak, held as f64]);
         Layout {
             ranks: self.comm.size(),
-            particles: all.iter().step_by(3).map(|&x| x as usize).collect(),
-            ghosts: all.iter().skip(1).step_by(3).map(|&x| x as usize).collect(),
+            particles: all.iter().step_by(4).map(|&x| x as usize).collect(),
+            ghosts: all.iter().skip(1).step_by(4).map(|&x| x as usize).collect(),
             peak_memory_mb: all
                 .iter()
                 .skip(2)
-                .step_by(3)
+                .step_by(4)
                 .map(|&x| (!x.is_nan()).then_some(x))
                 .collect(),
+            bonds: all.iter().skip(3).step_by(4).map(|&x| x as usize).collect(),
+            model_bonds,
         }
     }
 
@@ -473,9 +497,13 @@ impl Domain {
                 mine.push(pd.contact_stiffness[i]);
             }
         }
-        let all = self.comm.all_gather_varcount(&mine);
-        for (q, part) in all.iter().enumerate() {
-            let mut values = part.chunks_exact(STATE);
+        // One flat buffer: the whole state is most of what a rank holds at the end of a run.
+        let (all, counts) = self.comm.all_gather_flat(&mine);
+        drop(mine);
+        let mut at = 0;
+        for (q, count) in counts.into_iter().enumerate() {
+            let mut values = all[at..at + count].chunks_exact(STATE);
+            at += count;
             for (k, body) in bodies.iter_mut().enumerate() {
                 let Some(pd) = body.as_pd_mut() else { continue };
                 for i in self.ranges[k][q].clone() {

@@ -14,7 +14,7 @@ use self::domain::Domain;
 use self::path::{LoadPath, Prescribed, RampedLoad};
 
 use crate::body::lps::Stretch;
-use crate::body::{build_body, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
+use crate::body::{build_body_on, Body, PdBody, FIX_X, FIX_Y, FIX_Z};
 use crate::case::pairs::{pair_forces, PairKinematics};
 use crate::contact::estimate::{resolve, ContactResolution, ContactSurface};
 use crate::contact::fragments::FragmentPass;
@@ -52,9 +52,16 @@ pub struct Model {
 impl Model {
     /// Builds bodies, loads, constraints and contact passes from a scene.
     pub fn from_scene(scene: &Scene) -> Result<Model> {
+        Model::from_scene_on(scene, None)
+    }
+
+    /// [`Model::from_scene`] for a run decomposed over the ranks of `comm`: each rank builds
+    /// its part of the bodies that can be built so ([`crate::case::part`]); call
+    /// [`Model::distribute`] with the same `comm` next. Collective.
+    pub fn from_scene_on(scene: &Scene, comm: Option<&Arc<dyn Comm>>) -> Result<Model> {
         let mut bodies = Vec::with_capacity(scene.bodies.len());
         for spec in &scene.bodies {
-            bodies.push(build_body(scene, spec)?);
+            bodies.push(build_body_on(scene, spec, comm)?);
         }
         let index = |name: &str| scene.bodies.iter().position(|b| b.name == name);
         let mut path = LoadPath::default();
@@ -295,7 +302,13 @@ impl Model {
         for (k, body) in self.bodies.iter_mut().enumerate() {
             if let Some(pd) = body.as_pd_mut() {
                 pd.owned = domain.ranges[k][rank].clone();
-                pd.pairs = pd.pairs.restricted(pd.owned.clone());
+                // A case built as this rank's part has the rows of the pairs that act on its
+                // particles, and only those: its list is already the restricted one.
+                pd.pairs = if pd.case.part.is_some() {
+                    std::mem::take(&mut pd.pairs).owning(pd.owned.clone())
+                } else {
+                    pd.pairs.restricted(pd.owned.clone())
+                };
                 pd.force_buffers = Default::default();
             }
         }
@@ -404,7 +417,7 @@ impl Model {
         self.bodies
             .iter()
             .filter_map(Body::as_pd)
-            .map(|b| b.case.bonds.len())
+            .map(|b| b.case.bond_count())
             .sum()
     }
 

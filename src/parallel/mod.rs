@@ -29,6 +29,13 @@ pub trait Comm: Send + Sync {
     fn all_gather(&self, mine: &[f64]) -> Vec<f64>;
     /// Every rank's `mine`, one vector per rank (lengths may differ).
     fn all_gather_varcount(&self, mine: &[f64]) -> Vec<Vec<f64>>;
+    /// [`Self::all_gather_varcount`] in one vector, rank after rank, with each rank's
+    /// length: what a gather of the whole state takes, without a second copy of it.
+    fn all_gather_flat(&self, mine: &[f64]) -> (Vec<f64>, Vec<usize>) {
+        let parts = self.all_gather_varcount(mine);
+        let counts = parts.iter().map(Vec::len).collect();
+        (parts.concat(), counts)
+    }
     /// Sends `send[q]` to rank `q` and returns what each rank sent to this one.
     fn exchange(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>>;
     /// Stops every rank with `code`: what a rank does when it fails alone (the others would

@@ -53,6 +53,12 @@ impl Comm for MpiComm {
     }
 
     fn all_gather_varcount(&self, mine: &[f64]) -> Vec<Vec<f64>> {
+        let (flat, counts) = self.all_gather_flat(mine);
+        let counts: Vec<Count> = counts.iter().map(|&c| c as Count).collect();
+        split(&flat, &counts)
+    }
+
+    fn all_gather_flat(&self, mine: &[f64]) -> (Vec<f64>, Vec<usize>) {
         let n = self.size();
         let mut counts = vec![0 as Count; n];
         self.world
@@ -64,7 +70,7 @@ impl Comm for MpiComm {
             let mut part = PartitionMut::new(&mut flat[..], &counts[..], &displs[..]);
             self.world.all_gather_varcount_into(mine, &mut part);
         }
-        split(&flat, &counts)
+        (flat, counts.iter().map(|&c| c as usize).collect())
     }
 
     fn exchange(&self, send: &[Vec<f64>]) -> Vec<Vec<f64>> {

@@ -188,7 +188,8 @@ impl RunSummary {
 }
 
 /// How a decomposed run was spread over its ranks, for `run`'s last line: each rank's peak
-/// memory and its ghosts against the particles it owns (`summary.json`'s `decomposition`).
+/// memory, its ghosts against the particles it owns and the bonds it holds against the
+/// model's (`summary.json`'s `decomposition`).
 fn ranks_line(d: &crate::model::domain::Layout) -> String {
     let range = |v: &[f64], digits: usize| {
         let (lo, hi) = v
@@ -214,10 +215,16 @@ fn ranks_line(d: &crate::model::domain::Layout) -> String {
     } else {
         String::new()
     };
+    let bonds: Vec<f64> = d
+        .bonds
+        .iter()
+        .map(|&b| 100.0 * b as f64 / d.model_bonds.max(1) as f64)
+        .collect();
     format!(
-        "; {} ranks: {memory}ghosts {} % of a rank's particles",
+        "; {} ranks: {memory}ghosts {} % of a rank's particles, bonds held {} % of the model's",
         d.ranks,
-        range(&share, 0)
+        range(&share, 0),
+        range(&bonds, 0)
     )
 }
 
@@ -328,7 +335,16 @@ fn patch_figures(model: &Model) -> (f64, f64) {
 /// surfaces, contact pairs) and checked, with the warnings and contact estimates a run reports.
 /// `pdcontact run --check` stops here.
 pub fn check_scene(scene: &Scene) -> Result<(Model, Vec<String>, Vec<ContactResolution>)> {
-    let model = Model::from_scene(scene)?;
+    check_scene_on(scene, None)
+}
+
+/// [`check_scene`] on a rank of a run decomposed over `comm` ([`Model::from_scene_on`]).
+/// Collective.
+pub fn check_scene_on(
+    scene: &Scene,
+    comm: Option<&Arc<dyn Comm>>,
+) -> Result<(Model, Vec<String>, Vec<ContactResolution>)> {
+    let model = Model::from_scene_on(scene, comm)?;
     checks::check_model(scene, &model)?;
     // What the importers and the quality checks found in the meshes, body by body.
     let mut warnings: Vec<String> = model
@@ -422,9 +438,14 @@ pub fn run_scene_with(
     } else {
         folder
     };
-    let (mut model, warnings, contact_estimates) = check_scene(scene)?;
-    if let Some(comm) = options.comm.clone().filter(|c| c.size() > 1) {
+    let comm = options.comm.clone().filter(|c| c.size() > 1);
+    let (mut model, warnings, contact_estimates) = check_scene_on(scene, comm.as_ref())?;
+    if let Some(comm) = comm {
         model.distribute(comm)?;
+    }
+    // The meshes' elements have made the model; a run keeps their nodes alone.
+    for pd in model.bodies.iter_mut().filter_map(Body::as_pd_mut) {
+        pd.case.release_elements();
     }
     // In a decomposed run the first rank speaks and writes; the others only compute.
     let root = model.rank() == 0;
@@ -524,7 +545,7 @@ pub fn run_scene_with(
             (stats, Some(e))
         }
     };
-    let decomposition = model.domain.as_ref().map(|d| d.layout());
+    let decomposition = model.domain.as_ref().map(|d| d.layout(&model.bodies));
     let (contact, applied, balance) = force_balance(&model);
     let (radius, peak) = patch_figures(&model);
     let accuracy = report::AccuracyCheck::of(&contact_estimates, radius, peak);

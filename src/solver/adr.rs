@@ -51,8 +51,25 @@ fn contact_part<'a>(memory: f64, remembered: &'a [f64], current: &'a [f64]) -> &
 pub(super) fn unbonded_particles(model: &Model, density: &[Vec<f64>]) -> Result<()> {
     for (b, d) in model.bodies.iter().zip(density) {
         let Body::Deformable(pd) = b else { continue };
-        let lonely: Vec<usize> = (0..pd.len()).filter(|&i| !(d[i] > 0.0)).collect();
-        let Some(&first) = lonely.first() else {
+        // Each rank checks its own particles (a rank's part holds no others' bonds); the
+        // count and the first are over all ranks, so that every rank refuses alike.
+        let lonely: Vec<usize> = pd.owned.clone().filter(|&i| !(d[i] > 0.0)).collect();
+        let (count, first) = match &model.domain {
+            Some(dom) => {
+                let first = lonely.first().map_or(f64::INFINITY, |&i| i as f64);
+                let all = dom.comm().all_gather(&[lonely.len() as f64, first]);
+                let count: f64 = all.iter().step_by(2).sum();
+                let first = all
+                    .iter()
+                    .skip(1)
+                    .step_by(2)
+                    .copied()
+                    .fold(f64::INFINITY, f64::min);
+                (count as usize, first.is_finite().then_some(first as usize))
+            }
+            None => (lonely.len(), lonely.first().copied()),
+        };
+        let Some(first) = first else {
             continue;
         };
         let case = &pd.case;
@@ -61,7 +78,7 @@ pub(super) fn unbonded_particles(model: &Model, density: &[Vec<f64>]) -> Result<
         return Err(Error::input(format!(
             "body \"{}\": {} of its {} particles have no bond (the first: node {node} at [{:.4}, {:.4}, {:.4}]), so a static run cannot hold them: the horizon δ = {:.4e} m (Δ = {:.4e} m times {}) is shorter than the distance to their nearest neighbours; the mesh is coarser there than elsewhere. Leave the body's `spacing` unset and `horizon = \"local\"` (the default), so that the horizon follows a graded mesh, or give a larger `spacing`",
             pd.name,
-            lonely.len(),
+            count,
             pd.len(),
             x.x,
             x.y,

@@ -83,11 +83,18 @@ impl PairList {
         };
         let scale = |i: usize| share.get(i).map_or(1.0, |&s| 1.0 / s);
         let split = |keep: &dyn Fn(usize, usize) -> bool| {
+            // Counted first, so that the lists take their length and no more (grown by
+            // doubling they would hold up to twice it: most of a model's memory).
+            let total = (0..particles)
+                .flat_map(|i| bonds.range(i).map(move |b| (i, b)))
+                .filter(|&(i, b)| keep(i, bonds.partner[b] as usize))
+                .count();
             let mut list = BondList {
                 offsets: Vec::with_capacity(particles + 1),
-                ..BondList::default()
+                partner: Vec::with_capacity(total),
+                length: Vec::with_capacity(total),
             };
-            let mut w = Vec::new();
+            let mut w = Vec::with_capacity(total);
             list.offsets.push(0);
             for i in 0..particles {
                 for b in bonds.range(i) {
@@ -184,6 +191,10 @@ impl PairList {
                 }
                 out.offsets.push(out.partner.len());
             }
+            // A rank's part of the list, which lives as long as the run: no slack.
+            out.partner.shrink_to_fit();
+            out.length.shrink_to_fit();
+            weight.shrink_to_fit();
             (out, weight)
         };
         let (pairs, pair_weight) = keep(&self.pairs, &self.pair_weight, true);
