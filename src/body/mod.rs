@@ -227,7 +227,7 @@ impl PdBody {
     }
 
     /// Builds the body from a PD case and a material.
-    pub fn new(name: &str, case: PdCase, material: Material) -> PdBody {
+    pub fn new(name: &str, mut case: PdCase, material: Material) -> PdBody {
         let c = micromodulus(material.youngs, case.horizon);
         let n = case.particles.len();
         let vol = &case.particles.volume;
@@ -264,6 +264,9 @@ impl PdBody {
         if let Some(p) = &case.part {
             p.gather_scalar(&mut stiffness);
         }
+        // The weights hold what the correction's factors gave (the pairs are made of them).
+        drop(lps_stiffness);
+        case.correction.release_factors();
         // Particles on a symmetry plane cannot move across it.
         let fixed: Vec<FixMask> = (0..n)
             .map(|i| {

@@ -141,10 +141,10 @@ impl Horizon<'_> {
 /// Surface correction factors and the per-bond factor `G_ij · v_c` they give.
 #[derive(Clone, Debug, Default)]
 pub struct SurfaceCorrection {
-    /// `g_i` per axis.
+    /// `g_i` per axis (empty once a body is made of the case: [`Self::release_factors`]).
     pub g: Vec<[f64; 3]>,
     /// `G_ij · v_c(|ξ_ij|)` per directed bond, times `(δ/δ_ij)⁴` where the horizon is local
-    /// ([`Horizon::bond_scale`]).
+    /// ([`Horizon::bond_scale`]). Empty once a body is made of the case.
     pub bond_factor: Vec<f64>,
     /// Largest `|W_i^corrected / W_∞ − 1|` over particles and the three loads.
     pub max_energy_error: f64,
@@ -153,6 +153,16 @@ pub struct SurfaceCorrection {
     pub unbalanced: usize,
     /// Passes over the bonds.
     pub passes: usize,
+}
+
+impl SurfaceCorrection {
+    /// Lets the factors go once a body has made its bond weights of them
+    /// ([`crate::body::PdBody::new`]): 8 bytes a directed bond, a third of what the bonds
+    /// hold, that nothing reads afterwards. The figures (error, passes) stay.
+    pub fn release_factors(&mut self) {
+        self.g = Vec::new();
+        self.bond_factor = Vec::new();
+    }
 }
 
 /// The ellipsoid factor of a bond with direction cosines squared `n2`, given the products

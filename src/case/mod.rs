@@ -296,6 +296,28 @@ pub fn refine(mesh: Mesh, levels: u32) -> Mesh {
     mesh
 }
 
+/// The mesh's nodes, warnings and named sets, each set as its nodes (an element set's are
+/// its elements' nodes, as [`Mesh::set_nodes`] gives them), without its elements.
+fn nodes_and_sets(mesh: Mesh) -> Mesh {
+    let sets = mesh
+        .sets
+        .iter()
+        .map(|s| pdcontact_importers::NamedSet {
+            name: s.name.clone(),
+            kind: s.kind,
+            nodes: Some(mesh.set_nodes(s)),
+            elements: None,
+        })
+        .collect();
+    Mesh {
+        node_ids: mesh.node_ids,
+        coords: mesh.coords,
+        warnings: mesh.warnings,
+        sets,
+        ..Mesh::new()
+    }
+}
+
 /// A first-order mesh of tets and hexes only, which [`refine`] cuts (second-order elements
 /// have `second_order = "all-nodes"` instead).
 pub fn refinable_mesh(mesh: &Mesh) -> bool {
@@ -329,6 +351,12 @@ pub struct CaseOptions {
     pub surface_volume: SurfaceVolume,
     /// Stiffen the surface row's normal bonds ([`skin`]; on by default).
     pub skin_correction: bool,
+    /// Keep the mesh's elements in the case (the default). `false` for a model's bodies, which
+    /// read of their mesh only its nodes and its sets once the particles and faces are made:
+    /// the elements go before the bonds are made ([`PdCase::release_elements`], the sets kept
+    /// as their nodes), and with them most of a large mesh (a tet mesh's elements are about
+    /// 200 bytes a node) at the moment a body's bonds and their correction are made.
+    pub keep_elements: bool,
 }
 
 impl Default for CaseOptions {
@@ -343,6 +371,7 @@ impl Default for CaseOptions {
             refine: 0,
             surface_volume: SurfaceVolume::PerArea,
             skin_correction: true,
+            keep_elements: true,
         }
     }
 }
@@ -370,8 +399,8 @@ pub struct SurfaceAgreement {
 
 /// The rows a rank of `comm` holds and its [`CasePart`]: the particles cut over the ranks by
 /// their bond counts, the rows of its own particles whole, and of its halo (their partners'
-/// sources) the bonds to its own particles alone, as
-/// [`PairList::restricted`](pairs::PairList::restricted) keeps them. Collective.
+/// sources) the bonds to later particles of its own alone: the pairs
+/// [`PairList::restricted`](pairs::PairList::restricted) keeps of the whole list. Collective.
 fn rows_of_rank(
     position: &[Vec3],
     n: usize,
@@ -397,13 +426,14 @@ fn rows_of_rank(
         }
     }
     // Rows are searched for the particles of the range and the halo; a halo row keeps the
-    // bonds to the range (a mirror image's bond belongs to its particle's row alone).
+    // bonds to the range that a pair list holds in its row, those to later particles (the
+    // pair `(i, j > i)` is `i`'s; a mirror image's bond belongs to its particle's row alone).
     let bonds = {
         let (owned, halo) = (&owned, &halo);
         let s = neighbours::Search::new(reach, n);
         let active = |i: usize| owned.contains(&i) || halo[i];
         neighbours::build_rows_with(position, n, &s, active, |i, j| {
-            owned.contains(&i) || owned.contains(&j)
+            owned.contains(&i) || (i < j && owned.contains(&j))
         })
     };
     let part = CasePart::new(comm, ranges, &halo);
@@ -479,14 +509,14 @@ impl PdCase {
                 pdcontact_importers::has_splittable(&self.mesh),
                 refinable_mesh(&self.mesh),
             ]);
-            let mesh = std::mem::take(&mut self.mesh);
-            self.mesh = Mesh {
-                node_ids: mesh.node_ids,
-                coords: mesh.coords,
-                warnings: mesh.warnings,
-                ..Mesh::new()
-            };
         }
+        let mesh = std::mem::take(&mut self.mesh);
+        self.mesh = Mesh {
+            node_ids: mesh.node_ids,
+            coords: mesh.coords,
+            warnings: mesh.warnings,
+            ..Mesh::new()
+        };
     }
 
     /// Builds the case from a mesh.
@@ -557,6 +587,20 @@ impl PdCase {
             }
         };
         drop(all_faces);
+        // Particles, faces and volumes are made: what the model reads of the mesh from here
+        // on is its nodes and its sets.
+        let (mesh, elements_released) = if options.keep_elements {
+            (mesh, None)
+        } else {
+            let released = [
+                pdcontact_importers::has_splittable(&mesh),
+                refinable_mesh(&mesh),
+            ];
+            let mesh = nodes_and_sets(mesh);
+            // The elements' pages back to the system, not kept for later allocations.
+            crate::parallel::memory::give_back_free_pages();
+            (mesh, Some(released))
+        };
         times.discretize = t.elapsed().as_secs_f64();
         let horizon = options.horizon_factor * spacing;
 
@@ -724,7 +768,7 @@ impl PdCase {
             segments,
             ghosts,
             part,
-            elements_released: None,
+            elements_released,
             times,
         })
     }

@@ -2,7 +2,8 @@
 //!
 //! Built whole, a case holds every particle's bonds, and the bond list and its per-bond
 //! arrays are most of a model's memory. Built as a part, it holds the bonds of the particles
-//! the rank owns and of its halo (their partners, one horizon deep), and every per-particle
+//! the rank owns, of its halo (their partners, one horizon deep) the bonds to later owned
+//! particles (the pairs a pair list keeps in the halo's rows), and every per-particle
 //! array whole (positions, volumes, surface, correction factors): so that a rank's memory
 //! falls with the rank count and every rank still sees what one process sees of each
 //! particle. The owned ranges are cut before any bond exists, by the bond counts of a
@@ -11,9 +12,8 @@
 //!
 //! What a particle's own bonds decide (its correction factors in each Sinkhorn pass, its skin
 //! factor, its stiffness) is computed by its owner from its complete row and sent to the
-//! ranks that hold it in their halo: a halo particle's row is complete too, but its partners
-//! beyond the halo have no values on this rank. So the values are one process's, bit for
-//! bit, and so are the forces the rank evaluates over its pairs.
+//! ranks that hold it in their halo, whose rows there are only in part. So the values are
+//! one process's, bit for bit, and so are the forces the rank evaluates over its pairs.
 
 use std::fmt;
 use std::ops::Range;
@@ -133,9 +133,11 @@ impl CasePart {
     }
 }
 
-/// What a directed bond costs a run to its end, bytes: its partner and length (8), its
-/// surface correction factor (8), its weight (4) and half a pair of the force pass (6).
-const BYTES_PER_BOND: f64 = 26.0;
+/// What a directed bond costs a run at the most, bytes: its partner and length (8) and, while
+/// the surface correction balances the particles, the per-bond geometry of its passes (20);
+/// afterwards the correction factor (8), then its weight (4) and half a pair of the force
+/// pass (6), the factor let go once the weights are made.
+const BYTES_PER_BOND: f64 = 28.0;
 /// What a particle costs beyond what is held when its bonds are made (its mesh node, its
 /// place in the particle list, its surface): its state (displacement, velocity, forces, load,
 /// reference position: seven vectors), mass, stiffnesses and ADR's density, bytes. With

@@ -31,6 +31,8 @@ use crate::parallel::{owner, split_by_cost, Comm, Ghosts};
 /// Values per particle that [`Domain::gather`] moves: `u`, `v`, force, contact force, the
 /// master's reactions among it (3 each) and the contact stiffness.
 const STATE: usize = 16;
+/// Particles a rank sends in one round of [`Domain::gather`].
+const GATHER_ROUND: usize = 16_384;
 
 /// How a run was decomposed (`summary.json`'s `decomposition`).
 #[derive(Clone, Debug, serde::Serialize)]
@@ -485,10 +487,33 @@ impl Domain {
     /// particle, from its owner. Collective.
     pub fn gather(&self, bodies: &mut [Body]) {
         let rank = self.comm.rank();
-        let mut mine = Vec::new();
-        for (k, body) in bodies.iter().enumerate() {
-            let Some(pd) = body.as_pd() else { continue };
-            for i in self.ranges[k][rank].clone() {
+        let deformable: Vec<usize> = (0..bodies.len())
+            .filter(|&k| bodies[k].as_pd().is_some())
+            .collect();
+        // Particles `lo..hi` of rank `q`'s own, the bodies' ranges one after the other.
+        let items = |q: usize, lo: usize, hi: usize| {
+            let mut out = Vec::new();
+            let mut at = 0;
+            for &k in &deformable {
+                let r = self.ranges[k][q].clone();
+                let (a, b) = (lo.max(at), hi.min(at + r.len()));
+                out.extend((a..b.max(a)).map(|t| (k, r.start + t - at)));
+                at += r.len();
+            }
+            out
+        };
+        let longest = (0..self.comm.size())
+            .map(|q| deformable.iter().map(|&k| self.ranges[k][q].len()).sum())
+            .max()
+            .unwrap_or(0);
+        // In rounds of at most GATHER_ROUND particles a rank (every rank runs the same
+        // rounds): what a rank receives at once is a few MB, not the whole state (128 bytes
+        // a particle, beside the state itself).
+        for lo in (0..longest).step_by(GATHER_ROUND) {
+            let hi = lo + GATHER_ROUND;
+            let mut mine = Vec::with_capacity(STATE * GATHER_ROUND);
+            for (k, i) in items(rank, lo, hi) {
+                let pd = bodies[k].as_pd().expect("a deformable body");
                 mine.extend(pd.u[i].iter());
                 mine.extend(pd.v[i].iter());
                 mine.extend(pd.force[i].iter());
@@ -496,18 +521,15 @@ impl Domain {
                 mine.extend(pd.reaction_force[i].iter());
                 mine.push(pd.contact_stiffness[i]);
             }
-        }
-        // One flat buffer: the whole state is most of what a rank holds at the end of a run.
-        let (all, counts) = self.comm.all_gather_flat(&mine);
-        drop(mine);
-        let mut at = 0;
-        for (q, count) in counts.into_iter().enumerate() {
-            let mut values = all[at..at + count].chunks_exact(STATE);
-            at += count;
-            for (k, body) in bodies.iter_mut().enumerate() {
-                let Some(pd) = body.as_pd_mut() else { continue };
-                for i in self.ranges[k][q].clone() {
+            let (all, counts) = self.comm.all_gather_flat(&mine);
+            drop(mine);
+            let mut at = 0;
+            for (q, count) in counts.into_iter().enumerate() {
+                let mut values = all[at..at + count].chunks_exact(STATE);
+                at += count;
+                for (k, i) in items(q, lo, hi) {
                     let s = values.next().expect("every owner sends its whole range");
+                    let pd = bodies[k].as_pd_mut().expect("a deformable body");
                     let v3 = |a: usize| Vec3::new(s[a], s[a + 1], s[a + 2]);
                     pd.u[i] = v3(0);
                     pd.v[i] = v3(3);
