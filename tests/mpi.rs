@@ -189,6 +189,40 @@ fn demo_on_two_ranks() {
         "--plane-point".as_ref(),
         "0,0,-1".as_ref(),
     ]);
+    // The run's `view.py` reads the pieces as the one-process frame: the same aim and the
+    // same largest pressure (`--focus`: Python's vtk, no ParaView).
+    if !common::python_has("vtk") {
+        common::skipped(
+            "view.py --focus",
+            "python3 with vtk not found (pip install vtk)",
+        );
+        return;
+    }
+    let focus = |run: &Path| -> serde_json::Value {
+        let out = Command::new("python3")
+            .arg(run.join("view.py"))
+            .arg("--focus")
+            .output()
+            .expect("python3 runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).expect("JSON")
+    };
+    let (f1, f2) = (focus(&one), focus(&many));
+    assert!(f1["loaded"].as_u64().expect("loaded") > 0, "{f1}");
+    for key in [
+        "centre",
+        "normal",
+        "radius",
+        "loaded",
+        "pressure_max",
+        "caption",
+    ] {
+        assert_eq!(f1[key], f2[key], "{key}: {f1} against {f2}");
+    }
 }
 
 /// A scene file: a sphere (spacing 0.05 m) held on its axis, pressed by 1e5 N into a

@@ -796,6 +796,39 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_model_keeps_its_meshs_nodes_and_sets_without_the_elements() {
+        let mesh = generators::cuboid([0.0, 0.0, 0.0], [0.5, 0.4, 0.3], 0.1);
+        assert!(mesh.element_count() > 0 && mesh.sets.iter().any(|s| s.nodes.is_none()));
+        let kept = nodes_and_sets(mesh.clone());
+        assert_eq!(kept.element_count(), 0);
+        assert_eq!(kept.coords, mesh.coords);
+        assert_eq!(kept.node_ids, mesh.node_ids);
+        assert_eq!(kept.sets.len(), mesh.sets.len());
+        for (k, s) in kept.sets.iter().zip(&mesh.sets) {
+            assert_eq!(k.name, s.name);
+            assert_eq!(kept.set_nodes(k), mesh.set_nodes(s), "set {}", s.name);
+        }
+        // A case built for a model says what the elements were as one that kept them.
+        let whole = PdCase::build(mesh.clone(), CaseOptions::default()).expect("whole");
+        let lean = PdCase::build(
+            mesh,
+            CaseOptions {
+                keep_elements: false,
+                ..CaseOptions::default()
+            },
+        )
+        .expect("lean");
+        assert_eq!(lean.mesh.element_count(), 0);
+        assert_eq!(lean.refinable(), whole.refinable());
+        assert_eq!(
+            lean.corners_of_second_order(),
+            whole.corners_of_second_order()
+        );
+        assert_eq!(lean.bonds.partner, whole.bonds.partner);
+        assert_eq!(lean.correction.bond_factor, whole.correction.bond_factor);
+    }
+
+    #[test]
     fn images_across_symmetry_planes() {
         let planes = [
             SymmetryPlane { axis: 0, at: 0.0 },

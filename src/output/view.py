@@ -74,11 +74,32 @@ def read_blocks(vtm):
                 continue
             if b.IsA("vtkMultiBlockDataSet"):
                 walk(b, prefix + name + "/")
+            elif b.IsA("vtkMultiPieceDataSet"):
+                out[prefix + name] = merged(b)
             else:
                 out[prefix + name] = b
 
     walk(r.GetOutput(), "")
     return out
+
+
+def merged(pieces):
+    """One grid of the pieces a decomposed run writes (a rank's particles each), in rank
+    order, with the first piece's field data (the frame's load factor or time)."""
+    from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid
+    from vtkmodules.vtkFiltersCore import vtkAppendFilter
+
+    parts = [pieces.GetPiece(k) for k in range(pieces.GetNumberOfPieces())]
+    parts = [p for p in parts if p is not None and p.GetNumberOfPoints() > 0]
+    if not parts:
+        return vtkUnstructuredGrid()
+    append = vtkAppendFilter()
+    for p in parts:
+        append.AddInputData(p)
+    append.Update()
+    grid = append.GetOutput()
+    grid.GetFieldData().ShallowCopy(parts[0].GetFieldData())
+    return grid
 
 
 def focus(blocks, slaves):
