@@ -141,7 +141,8 @@ const BYTES_PER_BOND: f64 = 28.0;
 /// What a particle costs beyond what is held when its bonds are made (its mesh node, its
 /// place in the particle list, its surface): its state (displacement, velocity, forces, load,
 /// reference position: seven vectors), mass, stiffnesses and ADR's density, bytes. With
-/// [`BYTES_PER_BOND`] it puts a run's peak within about 5 % (docs/SCALING.md).
+/// [`BYTES_PER_BOND`]: 2,496 MB for the first of two 688k-particle spheres, whose run peaks
+/// at 2,816 MB once the second is made too (docs/SCALING.md, "A run's memory per rank").
 const BYTES_PER_PARTICLE: f64 = 300.0;
 
 /// Refuses, before its bonds are made, a body of `n` particles (horizon factor `m`) that
