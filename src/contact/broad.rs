@@ -23,33 +23,65 @@ pub struct VerletList {
     built: bool,
 }
 
+/// The two largest of a set of moves: the Verlet list holds while their sum stays under the
+/// skin (two particles closing on each other from opposite sides).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TopTwo(pub [f64; 2]);
+
+impl TopTwo {
+    /// Takes one more move.
+    pub fn push(&mut self, d: f64) {
+        let top = &mut self.0;
+        if d > top[0] {
+            top[1] = top[0];
+            top[0] = d;
+        } else if d > top[1] {
+            top[1] = d;
+        }
+    }
+
+    /// The two largest of both sets: what one set holding them all would give, when no move
+    /// is in both.
+    pub fn merge(mut self, other: TopTwo) -> TopTwo {
+        for d in other.0 {
+            self.push(d);
+        }
+        self
+    }
+
+    /// The largest two added.
+    pub fn sum(&self) -> f64 {
+        self.0[0] + self.0[1]
+    }
+}
+
 impl ContactPass {
     /// Whether the two largest displacements since the last rebuild exceed the skin.
     pub(super) fn needs_rebuild(&self, sb: &PdBody, view: MasterView<'_>) -> bool {
-        self.moves(sb, view)
-            .is_none_or(|top| top[0] + top[1] > self.skin)
+        self.moves(sb, view, |_| true)
+            .is_none_or(|top| top.sum() > self.skin)
     }
 
-    /// The two largest moves of the slaves and master nodes since the last rebuild (`None`
-    /// before the first).
-    pub(super) fn moves(&self, sb: &PdBody, view: MasterView<'_>) -> Option<[f64; 2]> {
+    /// The two largest moves since the last rebuild (`None` before the first) of the slaves
+    /// and of the master nodes `counts` accepts: on a decomposed run each rank counts the
+    /// master nodes it owns, so that no node's move is counted by two ranks.
+    pub(super) fn moves(
+        &self,
+        sb: &PdBody,
+        view: MasterView<'_>,
+        counts: impl Fn(u32) -> bool,
+    ) -> Option<TopTwo> {
         if !self.verlet.built {
             return None;
         }
-        let mut top = [0.0f64; 2];
-        let mut push = |d: f64| {
-            if d > top[0] {
-                top[1] = top[0];
-                top[0] = d;
-            } else if d > top[1] {
-                top[1] = d;
-            }
-        };
+        let mut top = TopTwo::default();
         for (k, &s) in self.slaves.iter().enumerate() {
-            push((self.slave_point(sb, s) - self.verlet.slave_ref[k]).norm());
+            top.push((self.slave_point(sb, s) - self.verlet.slave_ref[k]).norm());
         }
         for (k, &n) in self.master_nodes.iter().enumerate() {
-            push((view.node(n) - self.verlet.master_ref[k]).norm());
+            if counts(n) {
+                top.push((view.node(n) - self.verlet.master_ref[k]).norm());
+            }
         }
         Some(top)
     }
@@ -140,4 +172,35 @@ pub(super) fn distinct(nodes: &[u32; 4]) -> impl Iterator<Item = u32> + '_ {
         .enumerate()
         .filter(|(k, n)| !nodes[..*k].contains(n))
         .map(|(_, &n)| n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::TopTwo;
+
+    fn top(moves: &[f64]) -> TopTwo {
+        let mut t = TopTwo::default();
+        for &d in moves {
+            t.push(d);
+        }
+        t
+    }
+
+    #[test]
+    fn the_two_largest_moves_of_parts_merge_to_the_wholes() {
+        let moves: Vec<f64> = (0..97).map(|i| ((i * 37) % 89) as f64 / 1024.0).collect();
+        let whole = top(&moves);
+        assert_eq!(whole.0, [88.0 / 1024.0, 87.0 / 1024.0]);
+        for parts in 1..=5 {
+            let merged = moves
+                .chunks(moves.len().div_ceil(parts))
+                .map(top)
+                .fold(TopTwo::default(), TopTwo::merge);
+            assert_eq!(merged, whole, "{parts} parts");
+        }
+        // A move counted by two parts is counted twice: the sum is then larger than the
+        // whole's, which is why each rank counts only the master nodes it owns.
+        let twice = top(&[88.0 / 1024.0]).merge(whole);
+        assert!(twice.sum() > whole.sum());
+    }
 }

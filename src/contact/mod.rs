@@ -44,7 +44,7 @@ mod sums;
 
 use rayon::prelude::*;
 
-pub use broad::VerletList;
+pub use broad::{TopTwo, VerletList};
 use crack::CrackSides;
 pub use crack::CRACK_EDGE_MARGIN;
 pub use law::{default_radius, hertz_stiffness, ContactLaw};
@@ -400,13 +400,14 @@ impl ContactPass {
         self.detect_with(bodies, rebuild);
     }
 
-    /// The two largest moves of this pass's slaves and master nodes since the Verlet list was
-    /// built (`None` before it is): what decides a rebuild, to be combined over the ranks of a
-    /// decomposed run ([`crate::model::domain`]).
-    pub fn largest_moves(&self, bodies: &[Body]) -> Option<[f64; 2]> {
+    /// The two largest moves of this pass's slaves and of the master nodes `counts` accepts
+    /// since the Verlet list was built (`None` before it is): what decides a rebuild, to be
+    /// merged over the ranks of a decomposed run ([`crate::model::domain`]), each rank
+    /// counting the master nodes it owns.
+    pub fn largest_moves(&self, bodies: &[Body], counts: impl Fn(u32) -> bool) -> Option<TopTwo> {
         let sb = bodies[self.slave].as_pd().expect("slave is deformable");
         let shift = self.shift.clone();
-        self.moves(sb, self.view(bodies, &shift))
+        self.moves(sb, self.view(bodies, &shift), counts)
     }
 
     /// Keeps the slaves of `owned` only: a rank of a decomposed run detects contact for its

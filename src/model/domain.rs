@@ -24,7 +24,7 @@ use std::sync::Arc;
 
 use crate::body::Body;
 use crate::contact::shortrange::ShortRangePass;
-use crate::contact::ContactPass;
+use crate::contact::{ContactPass, TopTwo};
 use crate::math::Vec3;
 use crate::parallel::{owner, split_by_cost, Comm, Ghosts};
 
@@ -408,11 +408,23 @@ impl Domain {
     }
 
     /// Per pass, whether its Verlet list is to be rebuilt: the two largest moves since the
-    /// last rebuild, over all ranks' slaves and the master's nodes, pass the skin. Collective.
+    /// last rebuild, over all ranks' slaves and the master's nodes, pass the skin. Every
+    /// rank holds every master node; each counts those it owns (a rigid master's, the first
+    /// rank), or the largest node's move, counted by every rank, would rebuild the list
+    /// sooner than one process does. Collective.
     pub fn rebuilds(&self, bodies: &[Body], passes: &[ContactPass]) -> Vec<bool> {
+        let rank = self.comm.rank();
         let mine: Vec<f64> = passes
             .iter()
-            .flat_map(|p| p.largest_moves(bodies).unwrap_or([f64::INFINITY; 2]))
+            .flat_map(|p| {
+                let owned = self.ranges[p.master].get(rank).cloned();
+                let counts = |n: u32| match &owned {
+                    Some(r) => r.contains(&(n as usize)),
+                    None => rank == 0,
+                };
+                p.largest_moves(bodies, counts)
+                    .map_or([f64::INFINITY; 2], |t| t.0)
+            })
             .collect();
         if mine.is_empty() {
             return Vec::new();
@@ -423,18 +435,11 @@ impl Domain {
             .iter()
             .enumerate()
             .map(|(k, p)| {
-                let mut top = [0.0f64; 2];
-                for r in all.chunks_exact(per_rank) {
-                    for d in [r[2 * k], r[2 * k + 1]] {
-                        if d > top[0] {
-                            top[1] = top[0];
-                            top[0] = d;
-                        } else if d > top[1] {
-                            top[1] = d;
-                        }
-                    }
-                }
-                top[0] + top[1] > p.skin
+                all.chunks_exact(per_rank)
+                    .map(|r| TopTwo([r[2 * k], r[2 * k + 1]]))
+                    .fold(TopTwo::default(), TopTwo::merge)
+                    .sum()
+                    > p.skin
             })
             .collect()
     }
