@@ -355,7 +355,9 @@ pub struct CaseOptions {
     /// read of their mesh only its nodes and its sets once the particles and faces are made:
     /// the elements go before the bonds are made ([`PdCase::release_elements`], the sets kept
     /// as their nodes), and with them most of a large mesh (a tet mesh's elements are about
-    /// 200 bytes a node) at the moment a body's bonds and their correction are made.
+    /// 200 bytes a node) at the moment a body's bonds and their correction are made; the
+    /// surface's eigenvalues go once the surface is chosen
+    /// ([`SurfaceDetection::release_eigenvalues`]).
     pub keep_elements: bool,
 }
 
@@ -412,7 +414,18 @@ fn rows_of_rank(
         .into_iter()
         .map(|c| c + 1)
         .collect();
-    let ranges = crate::parallel::split_by_cost(&cost, comm.size(), crate::reduction::BLOCK);
+    // Cut by the rows a rank will own, then again by those and its halo's bonds to them:
+    // the halo is on the side of the earlier particles, and the later ranks' is the larger.
+    let first = crate::parallel::split_by_cost(&cost, comm.size(), crate::reduction::BLOCK);
+    let mine = first[comm.rank()].clone();
+    let before = neighbours::count_bonds_before(position, n, reach, mine);
+    let held: Vec<usize> = comm
+        .all_gather(&[before as f64])
+        .into_iter()
+        .map(|h| h as usize)
+        .collect();
+    let ranges =
+        crate::parallel::split_by_cost_held(&cost, comm.size(), crate::reduction::BLOCK, &held);
     drop(cost);
     let owned = ranges[comm.rank()].clone();
     let mut halo = vec![false; n];
@@ -687,12 +700,16 @@ impl PdCase {
         // Completed volumes V/ω: for a particle on a symmetry plane the share the model holds
         // cancels between V and ω, so they are the whole particle's, as its images need.
         let completed = particles.completed_volume();
-        let surface = detect_surface(
+        let mut surface = detect_surface(
             &position,
             &ghosts.extend(&completed),
             particles.len(),
             spacing,
         );
+        if !options.keep_elements {
+            // What chose the surface particles, which only `convert` writes out.
+            surface.release_eigenvalues();
+        }
         times.surface = t.elapsed().as_secs_f64();
 
         // A spacing far below the mesh's own leaves particles without partners: such a body has
@@ -826,6 +843,10 @@ mod tests {
         );
         assert_eq!(lean.bonds.partner, whole.bonds.partner);
         assert_eq!(lean.correction.bond_factor, whole.correction.bond_factor);
+        // The same surface, without the eigenvalues that chose it.
+        assert_eq!(lean.surface.is_surface, whole.surface.is_surface);
+        assert_eq!(lean.surface.normal, whole.surface.normal);
+        assert!(lean.surface.lambda_min.is_empty() && !whole.surface.lambda_min.is_empty());
     }
 
     #[test]

@@ -380,6 +380,33 @@ pub fn count_bonds(points: &[Vec3], queries: usize, reach: Reach) -> Vec<usize> 
         .collect()
 }
 
+/// How many bonds [`build_bond_rows`] gives the rows `rows` to particles before
+/// `rows.start`, without holding them: what a rank's halo rows hold of its bonds when the
+/// particles `rows` are its own ([`crate::case`]: a halo row keeps its bonds to later
+/// particles of the rank), so that the ranks can be cut by what each will hold.
+pub fn count_bonds_before(
+    points: &[Vec3],
+    queries: usize,
+    reach: Reach,
+    rows: std::ops::Range<usize>,
+) -> usize {
+    if rows.is_empty() || rows.start == 0 {
+        return 0;
+    }
+    let s = Search::new(reach, queries);
+    let grid = CellGrid::new(&points[..rows.start.min(queries)], 0.5 * s.typical);
+    rows.into_par_iter()
+        .map(|i| {
+            let mut n = 0;
+            grid.for_each_candidate(&points[i], s.radius(i), |j| {
+                let j = j as usize;
+                n += s.bonded(i, j, (points[j] - points[i]).norm_squared()) as usize
+            });
+            n
+        })
+        .sum()
+}
+
 /// Per point, how many pairs `(i, j > i)` within `radius` [`build_pairs`] gives it, without
 /// holding them: what a rank needs to cut the particles over the ranks by cost before it
 /// builds only its part ([`build_pairs_touching`]).
@@ -577,6 +604,14 @@ mod tests {
             let count = count_bonds(&pts, 500, r);
             let rows = build_bond_rows(&pts, 500, r, |i| (100..250).contains(&i));
             assert_eq!(rows.particles(), 500);
+            // The bonds of the rows to the particles before them (not to the images).
+            let before: usize = (100..250)
+                .flat_map(|i| whole.partner[whole.range(i)].iter())
+                .filter(|&&j| j < 100)
+                .count();
+            assert!(before > 0);
+            assert_eq!(count_bonds_before(&pts, 500, r, 100..250), before);
+            assert_eq!(count_bonds_before(&pts, 500, r, 0..250), 0);
             for i in 0..500 {
                 assert_eq!(count[i], whole.range(i).len());
                 if (100..250).contains(&i) {

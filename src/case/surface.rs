@@ -60,6 +60,15 @@ pub struct SurfaceDetection {
 }
 
 impl SurfaceDetection {
+    /// Lets `lambda_min` and `kernel_fill` go (empty after): 16 bytes a particle that the
+    /// surface, once chosen, no longer reads.
+    pub fn release_eigenvalues(&mut self) {
+        self.lambda_min = Vec::new();
+        self.kernel_fill = Vec::new();
+    }
+}
+
+impl SurfaceDetection {
     /// Number of surface particles.
     pub fn count(&self) -> usize {
         self.is_surface.iter().filter(|&&s| s).count()

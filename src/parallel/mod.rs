@@ -78,6 +78,19 @@ impl std::fmt::Debug for dyn Comm {
 /// sum straddles two ranks: summed block by block, the ranks' terms give the bits of one
 /// process.
 pub fn split_by_cost(cost: &[usize], parts: usize, align: usize) -> Vec<Range<usize>> {
+    split_by_cost_held(cost, parts, align, &[])
+}
+
+/// [`split_by_cost`] where part `r` also holds `held[r]` beside its items' costs (a rank's
+/// halo rows, [`crate::case`]): each cut moves so that a part's items and its `held`
+/// together come to an equal share, `held` taken as staying with its part as the cut moves.
+/// A missing `held[r]` is 0.
+pub fn split_by_cost_held(
+    cost: &[usize],
+    parts: usize,
+    align: usize,
+    held: &[usize],
+) -> Vec<Range<usize>> {
     let align = align.max(1);
     let parts = parts.max(1);
     let mut prefix = Vec::with_capacity(cost.len() + 1);
@@ -85,20 +98,25 @@ pub fn split_by_cost(cost: &[usize], parts: usize, align: usize) -> Vec<Range<us
     for c in cost {
         prefix.push(prefix.last().copied().unwrap_or(0) + c);
     }
-    let total = *prefix.last().unwrap_or(&0);
-    let cut = |r: usize| -> usize {
-        if r == 0 {
-            return 0;
+    let held_of = |r: usize| held.get(r).copied().unwrap_or(0);
+    let total =
+        *prefix.last().unwrap_or(&0) as u128 + held.iter().map(|&h| h as u128).sum::<u128>();
+    let mut cuts = vec![0usize; parts + 1];
+    let mut held_before = 0u128;
+    for r in 1..=parts {
+        held_before += held_of(r - 1) as u128;
+        cuts[r] = if r == parts {
+            cost.len()
+        } else {
+            // The first item whose cumulative cost, with what the parts before it hold,
+            // reaches the part's share.
+            let target = (total * r as u128 / parts as u128).saturating_sub(held_before) as usize;
+            let at = prefix.partition_point(|&p| p < target).min(cost.len());
+            ((at + align / 2) / align * align).min(cost.len())
         }
-        if r == parts {
-            return cost.len();
-        }
-        // The first item whose cumulative cost reaches the rank's share.
-        let target = (total as u128 * r as u128 / parts as u128) as usize;
-        let at = prefix.partition_point(|&p| p < target).min(cost.len());
-        ((at + align / 2) / align * align).min(cost.len())
-    };
-    (0..parts).map(|r| cut(r)..cut(r + 1)).collect()
+        .max(cuts[r - 1]);
+    }
+    cuts.windows(2).map(|w| w[0]..w[1]).collect()
 }
 
 /// The ghosts of one rank in one body: the particles it reads but does not own, received
@@ -220,6 +238,25 @@ mod tests {
                 assert!((c as f64 - total as f64 / parts as f64).abs() <= 256.0 * 90.0);
             }
         }
+    }
+
+    #[test]
+    fn what_a_part_holds_beside_its_items_moves_the_cuts() {
+        let cost = vec![10usize; 1000];
+        // The later parts hold more (a rank's halo rows to its earlier neighbour).
+        let held = [0, 400, 800, 1600];
+        let r = split_by_cost_held(&cost, 4, 1, &held);
+        assert_eq!(r[0].start, 0);
+        assert_eq!(r[3].end, 1000);
+        let share = (10_000 + 2800) as f64 / 4.0;
+        for (range, h) in r.iter().zip(held) {
+            let c = 10 * range.len() + h;
+            assert!((c as f64 - share).abs() <= 10.0, "{r:?}: {c} vs {share}");
+        }
+        assert_eq!(
+            split_by_cost_held(&cost, 4, 1, &[]),
+            split_by_cost(&cost, 4, 1)
+        );
     }
 
     #[test]
