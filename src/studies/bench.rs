@@ -19,12 +19,14 @@ use rayon::prelude::*;
 
 use crate::case::correction::{micromodulus, volume_correction};
 use crate::case::discretize::sort_morton;
-use crate::case::neighbours::{build_pairs, build_pairs_touching, count_pairs, BondList};
+use crate::case::neighbours::{
+    build_pairs, build_pairs_touching, count_bonds_before, count_pairs, BondList, Reach,
+};
 use crate::case::pairs::{pair_forces, ForceBuffers, PairKinematics, PairList};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::parallel::memory::{peak_rss_mb, resident_mb};
-use crate::parallel::{split_by_cost, Comm, Ghosts};
+use crate::parallel::{split_by_cost, split_by_cost_held, Comm, Ghosts};
 
 /// Radius of the sphere, m.
 pub const RADIUS: f64 = 1.0;
@@ -263,7 +265,17 @@ fn run_in_pool(spec: &LatticeSphere, comm: Option<&dyn Comm>) -> BenchReport {
             let pairs: usize = rows.iter().sum();
             let cost: Vec<usize> = rows.iter().map(|r| r + 1).collect();
             drop(rows);
-            let ranges = split_by_cost(&cost, c.size(), crate::reduction::BLOCK);
+            // Cut again so that each rank's rows and the pairs reaching into them from
+            // earlier particles, which it holds too, come to equal shares.
+            let first = split_by_cost(&cost, c.size(), crate::reduction::BLOCK);
+            let before =
+                count_bonds_before(&x, n, Reach::Uniform(horizon), first[c.rank()].clone());
+            let held: Vec<usize> = c
+                .all_gather(&[before as f64])
+                .into_iter()
+                .map(|h| h as usize)
+                .collect();
+            let ranges = split_by_cost_held(&cost, c.size(), crate::reduction::BLOCK, &held);
             drop(cost);
             let own = ranges[c.rank()].clone();
             let list = PairList::from_pairs(build_pairs_touching(&x, horizon, own.clone()), weight)
