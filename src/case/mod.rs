@@ -39,7 +39,7 @@ use crate::case::correction::{
     surface_correction_with, CorrectionMethod, Horizon, SurfaceCorrection,
 };
 use crate::case::discretize::{discretize, Discretization};
-use crate::case::neighbours::{build_bond_rows, count_bonds, BondList, Reach};
+use crate::case::neighbours::{build_bond_rows, BondList, Reach};
 use crate::case::part::CasePart;
 use crate::case::segments::{master_segments, SegmentSet};
 use crate::case::skin::{skin_correction, SkinCorrection, SkinInput};
@@ -399,60 +399,6 @@ pub struct SurfaceAgreement {
     pub extra: usize,
 }
 
-/// The rows a rank of `comm` holds and its [`CasePart`]: the particles cut over the ranks by
-/// their bond counts, the rows of its own particles whole, and of its halo (their partners'
-/// sources) the bonds to later particles of its own alone: the pairs
-/// [`PairList::restricted`](pairs::PairList::restricted) keeps of the whole list. Collective.
-fn rows_of_rank(
-    position: &[Vec3],
-    n: usize,
-    reach: Reach,
-    ghosts: &Ghosts,
-    comm: std::sync::Arc<dyn crate::parallel::Comm>,
-) -> (BondList, CasePart) {
-    let cost: Vec<usize> = count_bonds(position, n, reach)
-        .into_iter()
-        .map(|c| c + 1)
-        .collect();
-    // Cut by the rows a rank will own, then again by those and its halo's bonds to them:
-    // the halo is on the side of the earlier particles, and the later ranks' is the larger.
-    let first = crate::parallel::split_by_cost(&cost, comm.size(), crate::reduction::BLOCK);
-    let mine = first[comm.rank()].clone();
-    let before = neighbours::count_bonds_before(position, n, reach, mine);
-    let held: Vec<usize> = comm
-        .all_gather(&[before as f64])
-        .into_iter()
-        .map(|h| h as usize)
-        .collect();
-    let ranges =
-        crate::parallel::split_by_cost_held(&cost, comm.size(), crate::reduction::BLOCK, &held);
-    drop(cost);
-    let owned = ranges[comm.rank()].clone();
-    let mut halo = vec![false; n];
-    {
-        let own = build_bond_rows(position, n, reach, |i| owned.contains(&i));
-        for i in owned.clone() {
-            for b in own.range(i) {
-                let j = ghosts.source_of(own.partner[b] as usize, n);
-                halo[j] |= !owned.contains(&j);
-            }
-        }
-    }
-    // Rows are searched for the particles of the range and the halo; a halo row keeps the
-    // bonds to the range that a pair list holds in its row, those to later particles (the
-    // pair `(i, j > i)` is `i`'s; a mirror image's bond belongs to its particle's row alone).
-    let bonds = {
-        let (owned, halo) = (&owned, &halo);
-        let s = neighbours::Search::new(reach, n);
-        let active = |i: usize| owned.contains(&i) || halo[i];
-        neighbours::build_rows_with(position, n, &s, active, |i, j| {
-            owned.contains(&i) || (i < j && owned.contains(&j))
-        })
-    };
-    let part = CasePart::new(comm, ranges, &halo);
-    (bonds, part)
-}
-
 /// Everything the pipeline derives from one mesh.
 #[derive(Clone, Debug)]
 pub struct PdCase {
@@ -662,7 +608,7 @@ impl PdCase {
         let (bonds, mut part) = match comm.filter(|_| in_parts) {
             None => (build_bond_rows(&position, n, bond_reach, |_| true), None),
             Some(comm) => {
-                let (bonds, part) = rows_of_rank(&position, n, bond_reach, &ghosts, comm);
+                let (bonds, part) = part::rows_of_rank(&position, n, bond_reach, &ghosts, comm);
                 (bonds, Some(part))
             }
         };

@@ -8,7 +8,8 @@
 //! falls with the rank count and every rank still sees what one process sees of each
 //! particle. The owned ranges are cut before any bond exists, by the bond counts of a
 //! counting pass ([`crate::case::neighbours::count_bonds`]), along the Morton order as
-//! [`crate::model::domain`] cuts them.
+//! [`crate::model::domain`] cuts them, and moved so that each rank's rows and its halo's
+//! bonds to them come to equal shares ([`rows_of_rank`]).
 //!
 //! What a particle's own bonds decide (its correction factors in each Sinkhorn pass, its skin
 //! factor, its stiffness) is computed by its owner from its complete row and sent to the
@@ -19,6 +20,9 @@ use std::fmt;
 use std::ops::Range;
 use std::sync::Arc;
 
+use super::neighbours::{self, build_bond_rows, count_bonds, BondList, Reach};
+use super::Ghosts as MirrorImages;
+use crate::math::Vec3;
 use crate::parallel::{Comm, Ghosts};
 
 /// This rank's part of a case.
@@ -131,6 +135,60 @@ impl CasePart {
             .map(|x| x as usize)
             .sum()
     }
+}
+
+/// The rows a rank of `comm` holds and its [`CasePart`]: the particles cut over the ranks by
+/// their bond counts, the rows of its own particles whole, and of its halo (their partners'
+/// sources) the bonds to later particles of its own alone: the pairs
+/// [`PairList::restricted`](crate::case::pairs::PairList::restricted) keeps of the whole list. Collective.
+pub(crate) fn rows_of_rank(
+    position: &[Vec3],
+    n: usize,
+    reach: Reach,
+    ghosts: &MirrorImages,
+    comm: Arc<dyn Comm>,
+) -> (BondList, CasePart) {
+    let cost: Vec<usize> = count_bonds(position, n, reach)
+        .into_iter()
+        .map(|c| c + 1)
+        .collect();
+    // Cut by the rows a rank will own, then again by those and its halo's bonds to them:
+    // the halo is on the side of the earlier particles, and the later ranks' is the larger.
+    let first = crate::parallel::split_by_cost(&cost, comm.size(), crate::reduction::BLOCK);
+    let mine = first[comm.rank()].clone();
+    let before = neighbours::count_bonds_before(position, n, reach, mine);
+    let held: Vec<usize> = comm
+        .all_gather(&[before as f64])
+        .into_iter()
+        .map(|h| h as usize)
+        .collect();
+    let ranges =
+        crate::parallel::split_by_cost_held(&cost, comm.size(), crate::reduction::BLOCK, &held);
+    drop(cost);
+    let owned = ranges[comm.rank()].clone();
+    let mut halo = vec![false; n];
+    {
+        let own = build_bond_rows(position, n, reach, |i| owned.contains(&i));
+        for i in owned.clone() {
+            for b in own.range(i) {
+                let j = ghosts.source_of(own.partner[b] as usize, n);
+                halo[j] |= !owned.contains(&j);
+            }
+        }
+    }
+    // Rows are searched for the particles of the range and the halo; a halo row keeps the
+    // bonds to the range that a pair list holds in its row, those to later particles (the
+    // pair `(i, j > i)` is `i`'s; a mirror image's bond belongs to its particle's row alone).
+    let bonds = {
+        let (owned, halo) = (&owned, &halo);
+        let s = neighbours::Search::new(reach, n);
+        let active = |i: usize| owned.contains(&i) || halo[i];
+        neighbours::build_rows_with(position, n, &s, active, |i, j| {
+            owned.contains(&i) || (i < j && owned.contains(&j))
+        })
+    };
+    let part = CasePart::new(comm, ranges, &halo);
+    (bonds, part)
 }
 
 /// What a directed bond costs a run at the most, bytes: its partner and length (8) and, while
