@@ -467,7 +467,18 @@ fn lps_on_three_ranks() {
 /// bit; each rank tests its own pairs and the ranks share what failed.
 #[test]
 fn fracture_on_three_ranks() {
-    let dir = temp_dir("fracture");
+    beam_on_three_ranks("fracture", None);
+}
+
+/// The same as a linear peridynamic solid (ν = 0.3): the broken bonds leave the dilatations
+/// and force states alike on every rank.
+#[test]
+fn lps_fracture_on_three_ranks() {
+    beam_on_three_ranks("lps-fracture", Some(0.3));
+}
+
+fn beam_on_three_ranks(name: &str, lps_poisson: Option<f64>) {
+    let dir = temp_dir(name);
     let beam = pdcontact::studies::fracture::NotchedBeam {
         spacing: 0.002,
         thickness: 0.008,
@@ -475,6 +486,7 @@ fn fracture_on_three_ranks() {
         steps: 5,
         mesh: None,
         static_solver: false,
+        lps_poisson,
     };
     let path = dir.join("beam.toml");
     std::fs::write(&path, beam.scene(".")).expect("written");

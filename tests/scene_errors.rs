@@ -608,16 +608,6 @@ fn fracture_errors() {
         "density = 1000.0\nfracture_energy = -1.0",
     );
     assert_error("negative-g0", &text, "fracture_energy", &["positive", "-1"]);
-    let text = GOOD.replace(
-        "density = 1000.0",
-        "density = 1000.0\nmodel = \"lps\"\nfracture_energy = 100.0",
-    );
-    assert_error(
-        "lps-fracture",
-        &text,
-        "fracture_energy",
-        &["bond-based", "lps"],
-    );
     let crack = |point: &str, normal: &str| {
         format!(
             "{GOOD}\n[[precrack]]\nbody = \"block\"\npoint = {point}\nnormal = {normal}\nalong = [0.0, 1.0, 0.0]\nsize = [0.5, 2.0]\n"
@@ -625,14 +615,6 @@ fn fracture_errors() {
     };
     let text = crack("[0.5, 0.5, 0.25]", "[0.0, 1.0, 0.0]");
     assert_error("parallel", &text, "[[precrack]]", &["along", "parallel"]);
-    let text = crack("[0.5, 0.5, 0.25]", "[1.0, 0.0, 0.0]")
-        .replace("density = 1000.0", "density = 1000.0\nmodel = \"lps\"");
-    assert_error(
-        "lps-precrack",
-        &text,
-        "[[precrack]]",
-        &["lps", "bond-based"],
-    );
     let text = crack("[5.0, 0.5, 0.25]", "[1.0, 0.0, 0.0]");
     assert_error("outside", &text, "[[precrack]]", &["cuts no bond", "block"]);
     let text = format!(

@@ -477,11 +477,11 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
             );
             body.kinematics = spec.kinematics;
             let s0 = match (m.fracture_energy, m.critical_stretch) {
-                (Some(g0), _) => Some(fracture::critical_stretch(
-                    g0,
-                    m.youngs_modulus,
-                    m.poisson_ratio,
-                    body.case.horizon,
+                (Some(g0), _) => Some(match m.model {
+                    MaterialModel::Lps => fracture::critical_stretch_lps,
+                    MaterialModel::BondBased => fracture::critical_stretch,
+                }(
+                    g0, m.youngs_modulus, m.poisson_ratio, body.case.horizon
                 )),
                 (None, s0) => s0,
             };

@@ -38,6 +38,18 @@ pub fn critical_stretch(fracture_energy: f64, youngs: f64, poisson: f64, horizon
     (5.0 * fracture_energy / (9.0 * bulk * horizon)).sqrt()
 }
 
+/// `s0 = sqrt(G0 / ((3μ + (3/4)⁴ (k − 5μ/3)) δ))` of the linear peridynamic solid, k and μ
+/// from E and ν (Madenci & Oterkus, *Peridynamic Theory and Its Applications*, Springer 2014,
+/// the ordinary state-based model in 3D; PeriLab's critical stretch for its state-based
+/// materials): the work of breaking the bonds across a unit crack area with each bond's
+/// share of the state's energy. At ν = 1/4 (`k = 5μ/3`) it is [`critical_stretch`]'s.
+pub fn critical_stretch_lps(fracture_energy: f64, youngs: f64, poisson: f64, horizon: f64) -> f64 {
+    let bulk = youngs / (3.0 * (1.0 - 2.0 * poisson));
+    let shear = youngs / (2.0 * (1.0 + poisson));
+    let stiffness = 3.0 * shear + 0.75f64.powi(4) * (bulk - 5.0 * shear / 3.0);
+    (fracture_energy / (stiffness * horizon)).sqrt()
+}
+
 /// The state of a body's bonds once they may fail.
 #[derive(Clone, Debug)]
 pub struct Fracture {
@@ -176,13 +188,17 @@ impl Fracture {
 
     /// Breaks the bonds `(i, b)` (each real pair given once, from either end): both directions
     /// of a real pair, the bond alone to a mirror image. Their weights go to zero in
-    /// `bond_weight` and in `pairs` (where the pair is in it: a rank's list holds its own).
+    /// `bond_weight`, in `pairs` (where the pair is in it: a rank's list holds its own) and,
+    /// for an LPS body, in its bonds' `ω v_c V_j` (`lps_volume`: the bond leaves the
+    /// dilatation and the force state; the weighted volume `m_i` stays as built, as
+    /// Peridigm's LPS keeps it, so that a particle left with few bonds is not made stiffer).
     pub fn break_bonds(
         &mut self,
         bonds: &BondList,
         broken: &[(u32, u32)],
         bond_weight: &mut [f32],
         pairs: &mut PairList,
+        mut lps_volume: Option<&mut [f64]>,
     ) {
         let n = bonds.particles();
         for &(i, b) in broken {
@@ -195,6 +211,9 @@ impl Fracture {
                 self.intact[c] = false;
                 self.limit[c] = f32::INFINITY;
                 bond_weight[c] = 0.0;
+                if let Some(v) = lps_volume.as_deref_mut() {
+                    v[c] = 0.0;
+                }
                 self.lost[k] += f64::from(self.volume[c]);
             };
             cut(i, b);
@@ -264,6 +283,18 @@ impl Fracture {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_lps_critical_stretch_is_the_bond_based_one_at_nu_one_quarter() {
+        let (g0, e, d) = (300.0, 3e9, 3e-3);
+        let bb = critical_stretch(g0, e, 0.25, d);
+        assert!((critical_stretch_lps(g0, e, 0.25, d) / bb - 1.0).abs() < 1e-12);
+        // At ν = 0.3: 3μ + (3/4)⁴(k − 5μ/3) = 1.2146 E.
+        let s = critical_stretch_lps(g0, e, 0.3, d);
+        let stiffness = 3.0 / 2.6 + 0.75f64.powi(4) * (1.0 / 1.2 - 5.0 / 7.8);
+        assert!((s - (g0 / (stiffness * e * d)).sqrt()).abs() < 1e-15);
+        assert!((stiffness - 1.2146).abs() < 1e-4);
+    }
 
     #[test]
     fn the_critical_stretch_of_nu_one_quarter() {

@@ -341,6 +341,7 @@ impl PdBody {
                 broken,
                 &mut self.bond_weight,
                 &mut self.pairs,
+                self.lps.as_mut().map(|l| l.bond_volume.as_mut_slice()),
             );
         }
     }

@@ -1,7 +1,7 @@
 //! The scene checks of bond failure: the fracture keys of a material and the pre-cracks
 //! (METHOD.md §9, [`crate::body::fracture`]).
 
-use super::{excerpt, num, BodyKind, BodySpec, MaterialModel, MaterialSpec, Result, Scene};
+use super::{excerpt, num, BodyKind, BodySpec, MaterialSpec, Result, Scene};
 use crate::error::Error;
 use crate::math::Vec3;
 
@@ -36,21 +36,12 @@ pub(super) fn fracture_keys(
                 ),
             ));
         }
-        if m.model == MaterialModel::Lps {
-            return Err(err(
-                what,
-                format!(
-                    "body \"{}\": bond failure ({what}) is implemented for bond-based bodies; the linear peridynamic solid (model = \"lps\") has no failure criterion here yet: use the bond-based model (ν = 1/4) for a body that breaks",
-                    b.name
-                ),
-            ));
-        }
     }
     Ok(())
 }
 
 impl Scene {
-    /// Every `[[precrack]]`: a deformable bond-based body, a finite patch with a normal and a
+    /// Every `[[precrack]]`: a deformable body, a finite patch with a normal and a
     /// side not along it, positive sizes, not on one of the body's symmetry planes.
     /// `body(name, needle)` finds a body or says that none has the name.
     pub(super) fn check_precracks<'a>(
@@ -63,12 +54,6 @@ impl Scene {
             if b.kind == BodyKind::Rigid {
                 return Err(perr(format!(
                     "precrack in rigid body \"{}\": a rigid body has no bonds to cut",
-                    c.body
-                )));
-            }
-            if b.material.is_some_and(|m| m.model == MaterialModel::Lps) {
-                return Err(perr(format!(
-                    "precrack in \"{}\": the linear peridynamic solid (model = \"lps\") cannot have bonds cut yet (its force states are built on whole families); pre-cracks are for bond-based bodies",
                     c.body
                 )));
             }

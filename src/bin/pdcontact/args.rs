@@ -181,6 +181,11 @@ pub(crate) enum Command {
         /// The beam's thickness B, m.
         #[arg(long, default_value_t = 0.008)]
         thickness: f64,
+        /// The notched beam as a linear peridynamic solid (`model = "lps"`) with this
+        /// Poisson's ratio, its critical stretch from the same fracture energy; without it
+        /// the bond-based model (ν = 1/4).
+        #[arg(long, value_name = "NU")]
+        lps: Option<f64>,
         /// The loading roller's travel, m.
         #[arg(long, default_value_t = 0.0008)]
         displacement: f64,

@@ -128,12 +128,18 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             beam_mesh,
             solver,
             thickness,
+            lps,
             displacement,
             steps,
             output,
             json,
             quiet,
         } => {
+            if lps.is_some() && case != FractureCase::Beam {
+                return Err(Error::input(
+                    "--lps applies to the notched beam (--case beam)",
+                ));
+            }
             let spacing = spacing.unwrap_or(match case {
                 FractureCase::Beam => 0.002,
                 FractureCase::Kalthoff => 0.0015,
@@ -194,6 +200,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 steps,
                 mesh: beam_mesh,
                 static_solver: solver == BeamSolver::Static,
+                lps_poisson: lps,
             };
             let r = pdcontact::studies::fracture::run_beam(&beam, &output, quiet)?;
             print_report(json, &r, || r.to_text());

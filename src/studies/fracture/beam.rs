@@ -60,6 +60,10 @@ pub struct NotchedBeam {
     pub mesh: Option<PathBuf>,
     /// The static solver instead of ADR (its bonds tested near each equilibrium).
     pub static_solver: bool,
+    /// The linear peridynamic solid with this Poisson's ratio (its critical stretch from the
+    /// same fracture energy, [`crate::body::fracture::critical_stretch_lps`]) instead of the
+    /// bond-based model (ν = 1/4).
+    pub lps_poisson: Option<f64>,
 }
 
 impl NotchedBeam {
@@ -90,6 +94,11 @@ impl NotchedBeam {
         self.scene_with(folder, &body, &notch)
     }
 
+    /// The beam's Poisson's ratio.
+    pub fn poisson(&self) -> f64 {
+        self.lps_poisson.unwrap_or(0.25)
+    }
+
     fn scene_with(&self, folder: &str, body: &str, notch: &str) -> String {
         let (w, s) = (HEIGHT, 4.0 * HEIGHT);
         let r = ROLLER;
@@ -106,11 +115,26 @@ impl NotchedBeam {
              [output]\nfolder = \"{folder}\"\nevery = 100000\n\n\
              [[body]]\nname = \"beam\"\n\
              {body}\n\
-             kinematics = \"small\"\n\
-             material = {{ youngs_modulus = {YOUNGS:e}, poisson_ratio = 0.25, density = 1200, fracture_energy = {FRACTURE_ENERGY} }}\n\n\
+             kinematics = \"small\"\n{skin}\
+             material = {{ youngs_modulus = {YOUNGS:e}, poisson_ratio = {nu}, density = 1200, fracture_energy = {FRACTURE_ENERGY}{model} }}\n\n\
              [[symmetry]]\nbody = \"beam\"\naxis = \"y\"\n\n\
              {notch}{pin}{left}{right}{striker}",
             kind = if self.static_solver { "static" } else { "adr" },
+            nu = self.poisson(),
+            // The LPS's skin correction (for contact pressure) stiffens a slender body: on this
+            // beam, 8 mm thick against a 6 mm horizon, every particle is within a horizon of a
+            // face, and with it the beam came out 1.6 times as stiff and its peak +57 %
+            // (docs/FRACTURE.md, "The linear peridynamic solid").
+            skin = if self.lps_poisson.is_some() {
+                "skin_correction = false\n"
+            } else {
+                ""
+            },
+            model = if self.lps_poisson.is_some() {
+                ", model = \"lps\""
+            } else {
+                ""
+            },
             pin = if self.static_solver { PIN } else { "" },
             steps = self.steps,
             left = roller("left", -0.5 * s, -r, ""),
@@ -131,6 +155,9 @@ impl NotchedBeam {
 /// What a beam gave.
 #[derive(Clone, Debug, Serialize)]
 pub struct BeamResult {
+    /// `"bond-based"` or `"lps"`, and Poisson's ratio.
+    pub model: String,
+    pub poisson: f64,
     pub spacing: f64,
     pub horizon: f64,
     pub thickness: f64,
@@ -164,12 +191,14 @@ impl BeamResult {
         let pct = |p: f64| 100.0 * (self.peak_load / p - 1.0);
         format!(
             concat!(
-                "notched three-point bend beam, W = {w} mm, B = {b} mm, a/W = 0.5: Δ = {dx:.3} mm, δ = {d:.2} mm (a/δ = {ad:.1}), {n} particles\n",
+                "notched three-point bend beam, W = {w} mm, B = {b} mm, a/W = 0.5, {model} ν = {nu}: Δ = {dx:.3} mm, δ = {d:.2} mm (a/δ = {ad:.1}), {n} particles\n",
                 "peak load {p:.1} N at {u:.3} mm; LEFM {ps:.1} N in plane stress ({e1:+.1} %), {pe:.1} N in plane strain ({e2:+.1} %)\n",
                 "after the peak the load fell to {soft:.0} % of it; crack tip {tip:.1} mm above the bottom face (notch tip {a} mm), at most {off:.1} mm off the notch's plane\n",
                 "{bonds} bonds broken, {it} {word}, {wall:.1} s; chart {chart}\n",
             ),
             w = HEIGHT * 1e3,
+            model = self.model,
+            nu = self.poisson,
             b = self.thickness * 1e3,
             dx = self.spacing * 1e3,
             d = self.horizon * 1e3,
@@ -243,8 +272,15 @@ pub fn run_beam(beam: &NotchedBeam, folder: &Path, quiet: bool) -> Result<BeamRe
         tip = tip.max(z);
         offset = offset.max(off);
     }
-    let nu: f64 = 0.25;
+    let nu = beam.poisson();
     Ok(BeamResult {
+        model: if beam.lps_poisson.is_some() {
+            "lps"
+        } else {
+            "bond-based"
+        }
+        .to_string(),
+        poisson: nu,
         spacing: if beam.mesh.is_some() {
             pd.spacing()
         } else {
