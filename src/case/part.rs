@@ -137,6 +137,28 @@ impl CasePart {
     }
 }
 
+/// The particles cut over the ranks of `comm` by `cost` (a particle's bonds, plus one): first
+/// by the rows a rank will own, then again by those and its halo's bonds to them, which it
+/// holds too (the halo is on the side of the earlier particles, so the later ranks' is the
+/// larger). Collective.
+pub fn cut_by_rows(
+    position: &[Vec3],
+    n: usize,
+    reach: Reach,
+    cost: &[usize],
+    comm: &dyn crate::parallel::Comm,
+) -> Vec<std::ops::Range<usize>> {
+    let first = crate::parallel::split_by_cost(cost, comm.size(), crate::reduction::BLOCK);
+    let mine = first[comm.rank()].clone();
+    let before = neighbours::count_bonds_before(position, n, reach, mine);
+    let held: Vec<usize> = comm
+        .all_gather(&[before as f64])
+        .into_iter()
+        .map(|h| h as usize)
+        .collect();
+    crate::parallel::split_by_cost_held(cost, comm.size(), crate::reduction::BLOCK, &held)
+}
+
 /// The rows a rank of `comm` holds and its [`CasePart`]: the particles cut over the ranks by
 /// their bond counts, the rows of its own particles whole, and of its halo (their partners'
 /// sources) the bonds to later particles of its own alone: the pairs
@@ -152,18 +174,7 @@ pub(crate) fn rows_of_rank(
         .into_iter()
         .map(|c| c + 1)
         .collect();
-    // Cut by the rows a rank will own, then again by those and its halo's bonds to them:
-    // the halo is on the side of the earlier particles, and the later ranks' is the larger.
-    let first = crate::parallel::split_by_cost(&cost, comm.size(), crate::reduction::BLOCK);
-    let mine = first[comm.rank()].clone();
-    let before = neighbours::count_bonds_before(position, n, reach, mine);
-    let held: Vec<usize> = comm
-        .all_gather(&[before as f64])
-        .into_iter()
-        .map(|h| h as usize)
-        .collect();
-    let ranges =
-        crate::parallel::split_by_cost_held(&cost, comm.size(), crate::reduction::BLOCK, &held);
+    let ranges = cut_by_rows(position, n, reach, &cost, comm.as_ref());
     drop(cost);
     let owned = ranges[comm.rank()].clone();
     let mut halo = vec![false; n];
