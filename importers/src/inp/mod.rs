@@ -22,6 +22,8 @@
 //!   `inp/types.rs`: solids by the digits after `C3D` (any case), `SC6R`/`SC8R`,
 //!   `COH3D6`/`COH3D8`.
 //!   C3D27 and C3D15V are read as hex20 / wedge15 with their extra nodes dropped (warning).
+//!   Another `C3D` name (`C3D7`, `DC3D99`) is refused at its `*ELEMENT` line: its node count is
+//!   unknown.
 //!   Node number 0 is accepted at mid-side positions (stored as
 //!   [`MISSING_NODE`](crate::mesh::MISSING_NODE)) but not at corners.
 //! * **Element types that are not 3D solids** give one warning per type. Shells, membranes,

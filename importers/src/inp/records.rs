@@ -58,9 +58,17 @@ impl Reader {
         let ty = match self.type_index.get(&ty_name) {
             Some(&t) => t,
             None => {
+                let Some(class) = types::classify(&ty_name) else {
+                    return Err(self.err(
+                        file,
+                        line,
+                        format!("a known solid element type: {}", types::KNOWN_SOLIDS),
+                        format!("TYPE={ty_name}, which is not an Abaqus solid type"),
+                    ));
+                };
                 let t = self.types.len();
                 self.types.push(TypeStat {
-                    class: types::classify(&ty_name),
+                    class,
                     name: short_set_name(&ty_name),
                     count: 0,
                 });

@@ -566,6 +566,34 @@ fn bad_elements_are_located() {
 }
 
 #[test]
+fn unknown_solid_types_are_refused_at_the_element_line() {
+    // No Abaqus solid is called C3D7: refused at its *ELEMENT line (10), not read with a
+    // guessed 7 nodes and blamed on a later line.
+    for ty in ["C3D7", "C3D99", "dc3d7", "C3D"] {
+        let e = fail(&format!(
+            "{HEX}*ELEMENT, TYPE={ty}, ELSET=V\n1, 1,2,3,4,5,6,7,\n8\n*ELSET, ELSET=X\n1\n"
+        ));
+        assert_eq!(line_of(&e), 10, "{e}");
+        let upper = ty.to_ascii_uppercase();
+        assert!(e.found.contains(&format!("TYPE={upper},")), "{e}");
+        assert!(
+            e.expected.contains("C3D8") && e.expected.contains("C3D10"),
+            "{e}"
+        );
+    }
+    // An unknown type of no solid family is still consumed and dropped with a warning.
+    let m = ok(&format!(
+        "{HEX}*ELEMENT, TYPE=C3D8\n1, 1,2,3,4,5,6,7,8\n*ELEMENT, TYPE=FOO4\n2, 1,2,3,4\n"
+    ));
+    assert_eq!(m.element_count(), 1);
+    assert!(
+        m.warnings.iter().any(|w| w.contains("FOO4")),
+        "{:?}",
+        m.warnings
+    );
+}
+
+#[test]
 fn truncated_inputs_are_located() {
     // A record cut before its continuation line, at the end of the file and before a keyword.
     let e = fail(&format!("{HEX}*ELEMENT, TYPE=C3D8\n1, 1,2,3,4,"));

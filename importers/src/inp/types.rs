@@ -4,7 +4,9 @@
 //! Solids are classified by the digits after `C3D` (`C3D8R`, `DC3D10`, `C3d4` ...), plus the
 //! continuum shells `SC6R`/`SC8R` and the cohesive `COH3D6`/`COH3D8`. Shells, membranes, surface,
 //! rigid, 2-D continuum, beam and truss elements are kept as triangles, quadrilaterals or lines
-//! for set membership only. Anything else is skipped; its data lines are still consumed.
+//! for set membership only. Anything else is skipped; its data lines are still consumed. A
+//! solid-looking name that is no known solid (`C3D7`, `C3D99`, `DC3D`) is refused: its node
+//! count would only be a guess, and dropping it would lose part of the mesh.
 
 use crate::mesh::ElementKind;
 
@@ -80,21 +82,38 @@ fn line(n: usize) -> Option<Class> {
     })
 }
 
-/// Classifies an element type name (any case).
-pub(super) fn classify(name: &str) -> Class {
+/// The solid types [`classify`] knows, for the message that refuses an unknown one.
+pub(super) const KNOWN_SOLIDS: &str =
+    "C3D4, C3D5, C3D6, C3D8, C3D10, C3D13, C3D15, C3D20 or C3D27, \
+    with any suffix (C3D8R, C3D10M ...) or prefix (DC3D8 ...)";
+
+/// Classifies an element type name (any case). `None` for a solid-looking name (`C3D`, after
+/// letters only, as in `DC3D`) whose digits are no known solid: it is refused, not skipped.
+pub(super) fn classify(name: &str) -> Option<Class> {
     let t = name.trim().to_ascii_uppercase();
-    classify_upper(&t).unwrap_or(Class::Skipped {
+    if let Some(c) = classify_upper(&t) {
+        return Some(c);
+    }
+    if solid_like(&t) {
+        return None;
+    }
+    Some(Class::Skipped {
         nodes: skipped_nodes(&t),
     })
 }
 
+/// `C3D` after letters only (`C3D7`, `DC3D99`, `C3DX`): a name of the 3D solid family.
+fn solid_like(t: &str) -> bool {
+    t.find("C3D")
+        .is_some_and(|pos| t[..pos].bytes().all(|b| b.is_ascii_alphabetic()))
+}
+
 fn classify_upper(t: &str) -> Option<Class> {
     // 3D solids: C3D*, DC3D*, AC3D*, EC3D* ..., classified by the digits after "C3D".
-    if let Some(pos) = t.find("C3D") {
-        if t[..pos].bytes().all(|b| b.is_ascii_alphabetic()) {
-            let (d, rest) = digits_after(&t[pos..], "C3D")?;
-            return solid(d, rest);
-        }
+    if solid_like(t) {
+        let pos = t.find("C3D")?;
+        let (d, rest) = digits_after(&t[pos..], "C3D")?;
+        return solid(d, rest);
     }
     for (prefix, hex, wedge) in [("COH3D", 8, 6), ("SC", 8, 6)] {
         if let Some((d, rest)) = digits_after(t, prefix) {
@@ -159,9 +178,6 @@ fn skipped_nodes(t: &str) -> Option<usize> {
         Some(1)
     } else if TWO.contains(&t) {
         Some(2)
-    } else if let Some(pos) = t.find("C3D") {
-        // A solid-looking name with an unknown node count (C3D18 ...): its digits.
-        digits_after(&t[pos..], "C3D").map(|(d, _)| d)
     } else {
         None
     }
@@ -173,8 +189,8 @@ mod tests {
 
     fn kind(t: &str) -> Option<ElementKind> {
         match classify(t) {
-            Class::Solid { kind, .. } | Class::Lower { kind, .. } => Some(kind),
-            Class::Skipped { .. } => None,
+            Some(Class::Solid { kind, .. } | Class::Lower { kind, .. }) => Some(kind),
+            Some(Class::Skipped { .. }) | None => None,
         }
     }
 
@@ -211,12 +227,16 @@ mod tests {
         }
         assert_eq!(
             classify("C3D27"),
-            Class::Solid {
+            Some(Class::Solid {
                 kind: Hex20,
                 read: 27
-            }
+            })
         );
-        assert_eq!(classify("C3D18"), Class::Skipped { nodes: Some(18) });
+        // Solid-looking names that are no known solid are refused, not read with a guessed
+        // node count.
+        for t in ["C3D7", "C3D18", "c3d99", "DC3D7", "C3D", "C3DX", "C3D1000"] {
+            assert_eq!(classify(t), None, "{t}");
+        }
     }
 
     #[test]
@@ -241,10 +261,11 @@ mod tests {
             ("T3D2", Line, 2),
             ("T3D3", Line, 3),
         ] {
-            assert_eq!(classify(t), Class::Lower { kind: k, nodes: n }, "{t}");
+            assert_eq!(classify(t), Some(Class::Lower { kind: k, nodes: n }), "{t}");
         }
-        assert_eq!(classify("MASS"), Class::Skipped { nodes: Some(1) });
-        assert_eq!(classify("SPRINGA"), Class::Skipped { nodes: Some(2) });
-        assert_eq!(classify("U1"), Class::Skipped { nodes: None });
+        assert_eq!(classify("MASS"), Some(Class::Skipped { nodes: Some(1) }));
+        assert_eq!(classify("SPRINGA"), Some(Class::Skipped { nodes: Some(2) }));
+        assert_eq!(classify("U1"), Some(Class::Skipped { nodes: None }));
+        assert_eq!(classify("FOO4"), Some(Class::Skipped { nodes: None }));
     }
 }
