@@ -15,6 +15,11 @@ impl Reader {
                 self.finish_element(unit, ty, set)?;
             }
         }
+        if let Some(e) = self.overlong_record() {
+            // A record that ended with a trailing comma after more node numbers than its type
+            // has.
+            return Err(e);
+        }
         if let Some(p) = self.pending.take() {
             let need = self.pending_need().unwrap_or(0);
             return Err(self.err(

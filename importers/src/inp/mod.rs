@@ -23,7 +23,8 @@
 //!   `COH3D6`/`COH3D8`.
 //!   C3D27 and C3D15V are read as hex20 / wedge15 with their extra nodes dropped (warning).
 //!   Another `C3D` name (`C3D7`, `DC3D99`) is refused at its `*ELEMENT` line: its node count is
-//!   unknown.
+//!   unknown. A record with more node numbers than its type has is refused at its first line,
+//!   with the count over all its lines (a trailing comma continues it).
 //!   Node number 0 is accepted at mid-side positions (stored as
 //!   [`MISSING_NODE`](crate::mesh::MISSING_NODE)) but not at corners.
 //! * **Element types that are not 3D solids** give one warning per type. Shells, membranes,
@@ -216,6 +217,8 @@ struct Pending {
     label: u64,
     file: u32,
     line: usize,
+    /// File and line of the last data line of the record read so far.
+    last: (u32, usize),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -211,8 +211,11 @@ impl Reader {
                 label,
                 file,
                 line: lineno,
+                last: (file, lineno),
             });
             self.tokens.clear();
+        } else if let Some(p) = self.pending.as_mut() {
+            p.last = (file, lineno);
         }
         let skipped = matches!(class, Class::Skipped { .. });
         let assembly_level = self.units[u].kind == UnitKind::Assembly;
@@ -253,16 +256,13 @@ impl Reader {
         let done = match class.node_numbers() {
             Some(n) => {
                 if self.tokens.len() > n && !skipped {
-                    let p = self.pending.map_or(0, |p| p.label);
-                    return Err(self.err(
-                        file,
-                        lineno,
-                        format!(
-                            "{n} node numbers for element {p} of type {}",
-                            self.types[ty].name
-                        ),
-                        format!("{} node numbers", self.tokens.len()),
-                    ));
+                    if lex::trailing_comma(line) {
+                        // The record goes on: count all of it before refusing it.
+                        return Ok(());
+                    }
+                    if let Some(e) = self.overlong_record() {
+                        return Err(e);
+                    }
                 }
                 self.tokens.len() >= n
             }
@@ -272,6 +272,40 @@ impl Reader {
             self.finish_element(u, ty, set)?;
         }
         Ok(())
+    }
+
+    /// The error for a pending record with more node numbers than its type has, if it has
+    /// more: at the record's first line, counting the node numbers of all its lines so far.
+    pub(super) fn overlong_record(&self) -> Option<ImportError> {
+        let (Some(p), Mode::Element { ty, .. }) = (self.pending, self.mode) else {
+            return None;
+        };
+        let t = &self.types[ty];
+        let n = match t.class {
+            Class::Skipped { .. } => return None,
+            c => c.node_numbers()?,
+        };
+        if self.tokens.len() <= n {
+            return None;
+        }
+        let lines = match p.last {
+            (f, l) if f == p.file && l == p.line => String::new(),
+            (f, l) if f == p.file => format!(" on lines {}-{l}", p.line),
+            (f, l) => format!(
+                " from line {} to {}:{l}",
+                p.line,
+                self.files[f as usize].display()
+            ),
+        };
+        Some(self.err(
+            p.file,
+            p.line,
+            format!(
+                "{n} node numbers for element {} of type {}",
+                p.label, t.name
+            ),
+            format!("{} node numbers{lines}", self.tokens.len()),
+        ))
     }
 
     /// `instance.label` on an assembly-level element line: the node's mesh index.

@@ -594,6 +594,31 @@ fn unknown_solid_types_are_refused_at_the_element_line() {
 }
 
 #[test]
+fn overlong_records_are_counted_over_all_their_lines() {
+    // Gmsh writes 18-node prisms as C3D6, 15 node numbers on the first line and 3 on the next.
+    let mut nodes = String::from("*NODE\n");
+    for i in 1..=18 {
+        nodes.push_str(&format!("{i}, {i}, 0, 0\n"));
+    }
+    let head = format!("{nodes}*ELEMENT, TYPE=C3D6, ELSET=V\n"); // element on line 21
+    let first = "1, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, \n";
+    for tail in [
+        "16, 17, 18\n*ELSET, ELSET=X\n1\n",
+        "16, 17, 18,\n*ELSET, ELSET=X\n1\n",
+        "16, 17, 18,",
+    ] {
+        let e = fail(&format!("{head}{first}{tail}"));
+        assert_eq!(line_of(&e), 21, "{e}");
+        assert_eq!(e.expected, "6 node numbers for element 1 of type C3D6");
+        assert_eq!(e.found, "18 node numbers on lines 21-22", "{e}");
+    }
+    // A record on one line is counted as before.
+    let e = fail(&format!("{head}1, 1, 2, 3, 4, 5, 6, 7\n"));
+    assert_eq!(line_of(&e), 21, "{e}");
+    assert_eq!(e.found, "7 node numbers");
+}
+
+#[test]
 fn truncated_inputs_are_located() {
     // A record cut before its continuation line, at the end of the file and before a keyword.
     let e = fail(&format!("{HEX}*ELEMENT, TYPE=C3D8\n1, 1,2,3,4,"));
