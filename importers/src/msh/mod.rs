@@ -29,6 +29,10 @@
 //!   is an error). The merged element keeps the first number and every physical tag. Tags after
 //!   the second (partitions) are ignored, so partitioned and old `2` files read too. Binary
 //!   element blocks may hold one or many elements per header.
+//! * MSH 4.1 lists each element once, so an element tag used twice is an error at the second
+//!   record, naming the line or byte of the first. It is checked after `$Elements` is read: one
+//!   pass while the tags increase (as gmsh writes them), else a bitset over the tag range, or a
+//!   sort when that range is too wide.
 //! * Any other section (`$Comments`, also before `$MeshFormat`, `$Periodic`, `$NodeData`,
 //!   `$GhostElements`, ...) is skipped by searching for its `\n$EndXxx` line, without decoding.
 //!
@@ -485,6 +489,18 @@ impl<'a> Ctx<'a> {
             }
         }
         Ok(cur.p)
+    }
+
+    /// A position for a message: `line N`, or `byte N` in the binary part of a binary file.
+    pub(crate) fn place(&self, at: usize) -> String {
+        let at = at.min(self.data.len());
+        match self.binary_from {
+            Some(b) if at >= b => format!("byte {at}"),
+            _ => format!(
+                "line {}",
+                1 + memchr::memchr_iter(b'\n', &self.data[..at]).count()
+            ),
+        }
     }
 
     /// Reads `$Nodes` and builds the node index; a repeated tag is located by reading again.

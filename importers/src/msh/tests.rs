@@ -408,6 +408,36 @@ fn msh41_binary_errors_are_byte_offsets() {
     assert!(e.to_string().contains("type 999"), "{e}");
 }
 
+#[test]
+fn msh41_repeated_element_tag_is_an_error() {
+    // ASCII: the point element 13 renumbered 11, the tag of the triangle on line 32.
+    let text = MSH41.replace("13 1000\n", "11 1000\n");
+    let e = err(text.as_bytes());
+    let line = 1 + text[..text.find("11 1000\n").unwrap()]
+        .matches('\n')
+        .count();
+    assert_eq!(line_of(&e), line, "{e}");
+    assert_eq!(e.expected, "an element tag not used before");
+    assert_eq!(
+        e.found, "element tag 11 a second time (first at line 32)",
+        "{e}"
+    );
+    // Binary, both size_t widths: the second tet renumbered 1.
+    for wide in [true, false] {
+        let w = if wide { 8 } else { 4 };
+        let mut data = msh41_binary(false, wide);
+        let first = find(&data, b"$Elements\n") + 10 + 4 * w + 12 + w;
+        let second = first + 5 * w;
+        data[second] = 1;
+        let e = err(&data);
+        assert_eq!(byte_of(&e), second as u64, "{e}");
+        assert_eq!(
+            e.found,
+            format!("element tag 1 a second time (first at byte {first})")
+        );
+    }
+}
+
 fn find(hay: &[u8], needle: &[u8]) -> usize {
     hay.windows(needle.len())
         .position(|w| w == needle)

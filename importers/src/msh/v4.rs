@@ -159,6 +159,8 @@ pub(super) fn elements(cx: &mut Ctx<'_>, cur: &mut Cur<'_>) -> Res<()> {
     let Some(index) = cx.index.take() else {
         return Err(fail(cur.p, "$Nodes before $Elements", "$Elements"));
     };
+    let body = cur.p;
+    let start = cx.mesh.element_count();
     let header = cur.token_start();
     let (blocks, count, _, _) = cur.run(
         (
@@ -231,5 +233,114 @@ pub(super) fn elements(cx: &mut Ctx<'_>, cur: &mut Cur<'_>) -> Res<()> {
             format!("{total} elements in its blocks"),
         ));
     }
-    cur.end_of("Elements")
+    cur.end_of("Elements")?;
+    match first_repeat(&cx.mesh.element_ids[start..]) {
+        None => Ok(()),
+        Some((first, second)) => {
+            let tag = cx.mesh.element_ids[start + second];
+            let first_at = record_offset(cur.d, enc, body, first)?;
+            let second_at = record_offset(cur.d, enc, body, second)?;
+            Err(fail(
+                second_at,
+                "an element tag not used before",
+                format!(
+                    "element tag {tag} a second time (first at {})",
+                    cx.place(first_at)
+                ),
+            ))
+        }
+    }
+}
+
+/// The first element tag that repeats an earlier one, in file order: (index of its first
+/// record, index of the repeat). Tags that only increase (gmsh numbers them so) are checked in
+/// one pass; others with a bitset over their range, or by sorting when the range is too wide.
+fn first_repeat(ids: &[u64]) -> Option<(usize, usize)> {
+    if ids.windows(2).all(|w| w[0] < w[1]) {
+        return None;
+    }
+    let lo = ids.iter().copied().min()?;
+    let hi = ids.iter().copied().max()?;
+    let words = (hi - lo) / 64 + 1;
+    if words <= ids.len() as u64 {
+        let mut seen = vec![0u64; words as usize];
+        for (k, &id) in ids.iter().enumerate() {
+            let b = id - lo;
+            let (w, bit) = ((b / 64) as usize, 1u64 << (b % 64));
+            if seen[w] & bit != 0 {
+                return Some((ids.iter().position(|&t| t == id)?, k));
+            }
+            seen[w] |= bit;
+        }
+        None
+    } else {
+        let mut order: Vec<usize> = (0..ids.len()).collect();
+        order.sort_unstable_by_key(|&k| (ids[k], k));
+        order
+            .windows(2)
+            .filter(|w| ids[w[0]] == ids[w[1]])
+            .map(|w| (w[0], w[1]))
+            .min_by_key(|&(_, second)| second)
+    }
+}
+
+/// Where the record of element `k` (0-based, in file order) of the `$Elements` body at `body`
+/// starts. Only for error messages: the body has been read without error already.
+#[cold]
+#[inline(never)]
+fn record_offset(data: &[u8], enc: super::grammar::Enc, body: usize, k: usize) -> Res<usize> {
+    let mut cur = Cur::new(data, body, enc);
+    cur.run(
+        (
+            size_t(enc, "the number of element blocks"),
+            size_t(enc, "the number of elements"),
+            size_t(enc, "the smallest element tag"),
+            size_t(enc, "the largest element tag"),
+        ),
+        "an $Elements header",
+    )?;
+    let mut k = k as u64;
+    loop {
+        cur.run(
+            (
+                int(enc, "an entity dimension (0 to 3)"),
+                int(enc, "an entity tag"),
+            ),
+            "an element block header",
+        )?;
+        let type_at = cur.token_start();
+        let code = cur.run(int(enc, "an element type"), "an element block header")?;
+        let ty = element_type(&cur, type_at, code)?;
+        let n = cur.run(
+            size_t(enc, "the number of elements in the block"),
+            "an element block header",
+        )?;
+        let skip = k.min(n) * (ty.nodes as u64 + 1);
+        for _ in 0..skip {
+            cur.size_t("an element record")?;
+        }
+        if k < n {
+            return Ok(cur.token_start());
+        }
+        k -= n;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::first_repeat;
+
+    #[test]
+    fn first_repeat_in_file_order() {
+        assert_eq!(first_repeat(&[]), None);
+        assert_eq!(first_repeat(&[1, 2, 5, 9]), None);
+        // Not increasing: the bitset over the range.
+        assert_eq!(first_repeat(&[11, 20, 12, 13]), None);
+        assert_eq!(first_repeat(&[5, 3, 4, 3, 5]), Some((1, 3)));
+        // A range too wide for a bitset: sorted.
+        let far = 1u64 << 50;
+        assert_eq!(first_repeat(&[far, 1, far - 1]), None);
+        assert_eq!(first_repeat(&[far, 7, 1, 7, far]), Some((1, 3)));
+        assert_eq!(first_repeat(&[far, 1, 2, far, 1]), Some((0, 3)));
+    }
 }
