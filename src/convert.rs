@@ -499,25 +499,8 @@ force = [0.0, 0.0, {fz:e}]  # total force, N: {reason}
 slave = "part"
 master = "plane"
 {penalty}
-# A frictionless plane holds the body along its normal only: these pins (each the particle
-# nearest its point, held across the load) stop it sliding, rolling and spinning. The load and
-# the contact balance, so they carry next to nothing; remove them where supports of your own
-# hold the body sideways (docs/guide/scene.md, "Loads, supports, symmetry").
-[[constraint]]
-body = "part"
-nearest = [{pcx}, {pcy}, {pcz}]   # the centre of its bounding box
-fix = ["x", "y"]
-
-[[constraint]]
-body = "part"
-nearest = [{pcx}, {pcy}, {ptz}]   # the top of its vertical axis: with the centre, no rolling
-fix = ["x", "y"]
-
-[[constraint]]
-body = "part"
-nearest = [{psx}, {pcy}, {pcz}]   # off the axis, held across it: no spinning about it
-fix = ["y"]
-"#,
+{pins}"#,
+        pins = pins_and_pieces(case, skeleton),
         mesh_name = mesh_path.display(),
         // Quoted where the shell would split it, so that the line can be pasted.
         case_path = {
@@ -564,12 +547,6 @@ fix = ["y"]
         nu = SKELETON_POISSON,
         cx = centre[0],
         cy = centre[1],
-        // A pin takes the particle nearest its point: four digits place it.
-        pcx = pin(centre[0]),
-        pcy = pin(centre[1]),
-        pcz = pin(centre[2]),
-        ptz = pin(hi[2]),
-        psx = pin(centre[0] + 0.25 * (hi[0] - lo[0])),
         pz = lo[2],
         // Six significant digits: 4.8e6, not the 4.799999999999983e6 of the sum it came from.
         fz = format!("{:.5e}", -skeleton.force)
@@ -581,6 +558,92 @@ fix = ["y"]
             100.0 * PENALTY_TARGET
         )),
     )
+}
+
+/// The pins that hold the body sideways on the frictionless plane, three to each piece (the
+/// centre of its bounding box, the top of its vertical axis, a point off the axis held across
+/// it), and where the mesh is several solids that share no node, the contact that keeps its
+/// pieces apart ([`crate::contact::ContactPass::pieces`]).
+fn pins_and_pieces(case: &PdCase, skeleton: &SkeletonLoad) -> String {
+    let n = case.particles.len();
+    let (label, sizes) = case.bonds.components(|_| true);
+    // Pieces of a few particles are particles a coarse horizon left without a bond.
+    let solid: Vec<usize> = (0..sizes.len()).filter(|&k| sizes[k] >= 4).collect();
+    let boxes: Vec<([f64; 3], [f64; 3])> = if solid.len() < 2 {
+        vec![case.mesh.bbox().unwrap_or(([0.0; 3], [1.0; 3]))]
+    } else {
+        solid
+            .iter()
+            .map(|&k| {
+                let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+                for x in (0..n)
+                    .filter(|&i| label[i] as usize == k)
+                    .map(|i| case.particles.position[i])
+                {
+                    for d in 0..3 {
+                        lo[d] = lo[d].min(x[d]);
+                        hi[d] = hi[d].max(x[d]);
+                    }
+                }
+                (lo, hi)
+            })
+            .collect()
+    };
+    let mut out = String::from(
+        "# A frictionless plane holds the body along its normal only: these pins (each the particle
+# nearest its point, held across the load) stop it sliding, rolling and spinning. The load and
+# the contact balance, so they carry next to nothing; remove them where supports of your own
+# hold the body sideways (docs/guide/scene.md, \"Loads, supports, symmetry\").
+",
+    );
+    for (k, (lo, hi)) in boxes.iter().enumerate() {
+        let of = if boxes.len() > 1 {
+            format!(" of piece {}", k + 1)
+        } else {
+            String::new()
+        };
+        let c: Vec<f64> = (0..3).map(|d| 0.5 * (hi[d] + lo[d])).collect();
+        // A pin takes the particle nearest its point: four digits place it.
+        let (cx, cy, cz) = (pin(c[0]), pin(c[1]), pin(c[2]));
+        let (tz, sx) = (pin(hi[2]), pin(c[0] + 0.25 * (hi[0] - lo[0])));
+        if k > 0 {
+            out.push('\n');
+        }
+        out.push_str(&format!(
+            r#"[[constraint]]
+body = "part"
+nearest = [{cx}, {cy}, {cz}]   # the centre of its bounding box{of}
+fix = ["x", "y"]
+
+[[constraint]]
+body = "part"
+nearest = [{cx}, {cy}, {tz}]   # the top of its vertical axis{of}: with the centre, no rolling
+fix = ["x", "y"]
+
+[[constraint]]
+body = "part"
+nearest = [{sx}, {cy}, {cz}]   # off the axis{of}, held across it: no spinning about it
+fix = ["y"]
+"#
+        ));
+    }
+    if boxes.len() > 1 {
+        out.push_str(&format!(
+            r#"
+# The mesh is {} solids that share no node: one body whose pieces no bond joins. This keeps
+# them apart, each piece's surface particles against the other pieces' faces; without it they
+# would pass through each other (docs/guide/scene.md, "Contact").
+[[contact]]
+slave = "part"
+master = "part"
+{}"#,
+            boxes.len(),
+            skeleton
+                .penalty_radius
+                .map_or(String::new(), |r| format!("radius = {r:e}\n"))
+        ));
+    }
+    out
 }
 
 /// A pin's coordinate to four significant digits, as TOML reads it.

@@ -146,7 +146,7 @@ fn disconnected_pieces(mesh: &Mesh) -> Option<String> {
         .map(|(n, id)| format!("{n} elements from element {id}"))
         .collect();
     Some(format!(
-        "the solid elements form {} pieces that share no node ({}{}); each piece becomes a separate body of particles",
+        "the solid elements form {} pieces that share no node ({}{}): one body in pieces, which no contact keeps apart unless a [[contact]] names the body as its own slave and master (pdcontact convert writes one)",
         sizes.len(),
         shown.join("; "),
         if sizes.len() > LISTED { ", …" } else { "" }

@@ -243,40 +243,7 @@ impl Fracture {
     /// Each particle's fragment, numbered from 0 by size, largest first (equal sizes in the
     /// order of their first particle), and the sizes in that order.
     pub fn fragment_labels(&self, bonds: &BondList) -> (Vec<u32>, Vec<usize>) {
-        let n = bonds.particles();
-        let mut parent: Vec<u32> = (0..n as u32).collect();
-        fn root(parent: &mut [u32], mut a: usize) -> usize {
-            while parent[a] as usize != a {
-                parent[a] = parent[parent[a] as usize];
-                a = parent[a] as usize;
-            }
-            a
-        }
-        for i in 0..n {
-            for b in bonds.range(i) {
-                let j = bonds.partner[b] as usize;
-                if j < n && j > i && self.intact[b] {
-                    let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
-                    if ri != rj {
-                        parent[ri.max(rj)] = ri.min(rj) as u32;
-                    }
-                }
-            }
-        }
-        // Roots are each group's first particle (the smaller root wins every union).
-        let roots: Vec<usize> = (0..n).map(|i| root(&mut parent, i)).collect();
-        let mut size = vec![0usize; n];
-        for &r in &roots {
-            size[r] += 1;
-        }
-        let mut order: Vec<usize> = (0..n).filter(|&r| size[r] > 0).collect();
-        order.sort_by(|&a, &b| size[b].cmp(&size[a]).then(a.cmp(&b)));
-        let mut label = vec![0u32; n];
-        for (k, &r) in order.iter().enumerate() {
-            label[r] = k as u32;
-        }
-        let labels = roots.iter().map(|&r| label[r]).collect();
-        (labels, order.iter().map(|&r| size[r]).collect())
+        bonds.components(|b| self.intact[b])
     }
 }
 

@@ -646,11 +646,27 @@ impl PdCase {
         // Completed volumes V/ω: for a particle on a symmetry plane the share the model holds
         // cancels between V and ω, so they are the whole particle's, as its images need.
         let completed = particles.completed_volume();
+        // The pieces no bond joins (solids of the mesh that share no node), each particle's
+        // and each image's; one piece, or a decomposed run's rows of one rank, none.
+        let piece: Vec<u32> = match &part {
+            None => {
+                let (label, sizes) = bonds.components(|_| true);
+                if sizes.len() > 1 {
+                    (0..position.len())
+                        .map(|j| label[ghosts.source_of(j, particles.len())])
+                        .collect()
+                } else {
+                    Vec::new()
+                }
+            }
+            Some(_) => Vec::new(),
+        };
         let mut surface = detect_surface(
             &position,
             &ghosts.extend(&completed),
             particles.len(),
             spacing,
+            &piece,
         );
         if !options.keep_elements {
             // What chose the surface particles, which only `convert` writes out.

@@ -96,6 +96,7 @@ fn kernel_moments(
     position: &[Vec3],
     volume: &[f64],
     grid: &CellGrid,
+    piece: &[u32],
     i: usize,
     h: f64,
 ) -> (Matrix3<f64>, Vec3) {
@@ -104,7 +105,7 @@ fn kernel_moments(
     let mut grad = Vec3::zeros();
     grid.for_each_candidate(&xi, 3.0 * h * (1.0 + 1e-9), |j| {
         let j = j as usize;
-        if j == i {
+        if j == i || !same_piece(piece, i, j) {
             return;
         }
         let d = position[j] - xi;
@@ -118,6 +119,12 @@ fn kernel_moments(
         grad += g * volume[j];
     });
     (l, grad)
+}
+
+/// Whether particles `i` and `j` are of one piece (`piece` empty: one piece in all).
+#[inline]
+fn same_piece(piece: &[u32], i: usize, j: usize) -> bool {
+    piece.is_empty() || piece[i] == piece[j]
 }
 
 /// The outward normal `−L⁻¹ Σ ∇W V` of Eq. 16, normalised; zero where the kernel sum cancels.
@@ -144,7 +151,10 @@ pub(crate) fn outward_normal(l: &Matrix3<f64>, grad: &Vec3, h: f64) -> Vec3 {
 /// Detects the surface among the first `particles` of `position` (the rest are mirror images
 /// across symmetry planes, which only serve as neighbours). `volume` holds the completed
 /// volumes (`V_i/ω_i`, so that a face particle weighs a whole cell as a lattice one does);
-/// `spacing` is the body's grid spacing Δ.
+/// `spacing` is the body's grid spacing Δ. `piece` (each particle's and image's, or empty)
+/// keeps each piece of a body whose pieces no bond joins (solids of one mesh that share no
+/// node) from filling the others' kernels: a piece's face a gap narrower than the kernel's
+/// reach from another's is on the surface all the same.
 ///
 /// Three steps, each at a kernel width proportional to the local spacing `s_i` (the mean
 /// `V_j^{1/3}` within 2Δ; `s_i = Δ` on a lattice), so that a mesh graded 3:1 sees the same test
@@ -167,6 +177,7 @@ pub fn detect_surface(
     volume: &[f64],
     particles: usize,
     spacing: f64,
+    piece: &[u32],
 ) -> SurfaceDetection {
     let grid = CellGrid::new(position, 3.0 * spacing);
     let cube_root: Vec<f64> = volume.iter().map(|v| v.max(0.0).cbrt()).collect();
@@ -178,24 +189,25 @@ pub fn detect_surface(
             let (mut sum, mut count) = (0.0, 0usize);
             grid.for_each_candidate(&xi, window, |j| {
                 let j = j as usize;
-                if (position[j] - xi).norm_squared() <= window * window {
+                if (position[j] - xi).norm_squared() <= window * window && same_piece(piece, i, j) {
                     sum += cube_root[j];
                     count += 1;
                 }
             });
             let s = sum / count.max(1) as f64;
-            let (l, _) = kernel_moments(position, volume, &grid, i, s);
+            let (l, _) = kernel_moments(position, volume, &grid, piece, i, s);
             let lambda = SymmetricEigen::new(l).eigenvalues.min();
             // A candidate by Eq. 15, confirmed by the mean eigenvalue at a wider kernel.
             let fill = if lambda <= SURFACE_LAMBDA {
-                let (l, _) = kernel_moments(position, volume, &grid, i, CONFIRM_KERNEL_WIDTH * s);
+                let (l, _) =
+                    kernel_moments(position, volume, &grid, piece, i, CONFIRM_KERNEL_WIDTH * s);
                 l.trace() / 3.0
             } else {
                 1.0
             };
             let normal = if fill <= SURFACE_LAMBDA {
                 let h = NORMAL_KERNEL_WIDTH * s;
-                let (l, grad) = kernel_moments(position, volume, &grid, i, h);
+                let (l, grad) = kernel_moments(position, volume, &grid, piece, i, h);
                 outward_normal(&l, &grad, h)
             } else {
                 Vec3::zeros()
@@ -216,7 +228,7 @@ pub fn detect_surface(
             let mut covered = false;
             grid.for_each_candidate(&position[i], reach, |j| {
                 let j = j as usize;
-                if covered || j >= particles || j == i || !flagged[j] {
+                if covered || j >= particles || j == i || !flagged[j] || !same_piece(piece, i, j) {
                     return;
                 }
                 let d = position[j] - position[i];
@@ -265,7 +277,7 @@ mod tests {
     fn flat_face_lattice_values() {
         let n = 15;
         let (p, v) = lattice(n);
-        let s = detect_surface(&p, &v, p.len(), 1.0);
+        let s = detect_surface(&p, &v, p.len(), 1.0, &[]);
         let at = |i: usize, j: usize, k: usize| i + n * (j + n * k);
         let c = n / 2;
         // Eq. 15 at h = Δ: the paper's lattice values.
@@ -316,7 +328,7 @@ mod tests {
                 }
             }
         }
-        let s = detect_surface(&p, &v, p.len(), 1.0);
+        let s = detect_surface(&p, &v, p.len(), 1.0, &[]);
         let mut paper_inside = 0;
         for (i, x) in p.iter().enumerate() {
             assert_eq!(s.is_surface[i], on_face(x), "particle {i} at {x:?}");
@@ -350,7 +362,7 @@ mod tests {
         let c = (n / 2) as f64;
         p.push(Vec3::new(c, c, 0.45));
         v.push(0.3);
-        let s = detect_surface(&p, &v, p.len(), 1.0);
+        let s = detect_surface(&p, &v, p.len(), 1.0, &[]);
         let under = p.len() - 1;
         assert!(
             s.lambda_min[under] <= SURFACE_LAMBDA,

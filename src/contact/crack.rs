@@ -18,6 +18,9 @@ pub(super) struct CrackSides {
     pub(super) slave_side: Vec<u8>,
     /// Per segment of the master body, its side (`u8::MAX`: not of this crack).
     pub(super) segment_side: Vec<u8>,
+    /// Whether a slave presses beyond the other face's edge ([`CRACK_EDGE_MARGIN`]): a
+    /// crack's faces, moved onto its plane, meet edge to edge.
+    pub(super) edge_margin: bool,
 }
 
 impl ContactPass {
@@ -52,6 +55,7 @@ impl ContactPass {
         pass.crack = Some(CrackSides {
             slave_side: slaves.iter().map(|s| s.1).collect(),
             segment_side,
+            edge_margin: true,
         });
         // Each face particle moved onto the crack plane: the two faces meet there, as the
         // body did before the cut.
@@ -66,8 +70,35 @@ impl ContactPass {
         pass
     }
 
+    /// The pass that keeps a body's pieces apart: a mesh of solids that share no node (a
+    /// ball and a plate in one file) is one body whose pieces no bond joins
+    /// ([`crate::case::neighbours::BondList::components`]), and each piece's surface
+    /// particles are slaves against the other pieces' segments, with the weight of a
+    /// two-pass pair (each piece is the others' master as well). `piece`: each particle's.
+    pub fn pieces(bodies: &[Body], body: usize, piece: &[u32], law: ContactLaw) -> ContactPass {
+        let pd = bodies[body].as_pd().expect("checked deformable");
+        let slaves: Vec<u32> = (0..pd.len() as u32)
+            .filter(|&i| pd.case.surface.is_surface[i as usize])
+            .collect();
+        let side = |p: u32| piece[p as usize].min(u8::MAX as u32 - 1) as u8;
+        let segment_side: Vec<u8> = pd.segments().iter().map(|s| side(s.nodes[0])).collect();
+        let mut pass =
+            ContactPass::new_with(bodies, body, body, law, 0.5, slaves.clone(), |_| true);
+        pass.crack = Some(CrackSides {
+            slave_side: slaves.iter().map(|&p| side(p)).collect(),
+            segment_side,
+            edge_margin: false,
+        });
+        pass
+    }
+
     /// Whether this pass presses the faces of a pre-crack together ([`ContactPass::crack`]).
     pub fn is_crack(&self) -> bool {
-        self.crack.is_some()
+        self.crack.as_ref().is_some_and(|c| c.edge_margin)
+    }
+
+    /// Whether this pass keeps a body's pieces apart ([`ContactPass::pieces`]).
+    pub fn is_pieces(&self) -> bool {
+        self.crack.as_ref().is_some_and(|c| !c.edge_margin)
     }
 }

@@ -496,7 +496,7 @@ impl ContactPass {
             let trial = anchor.map(|a| (a, point.slip_work));
             (Some((point, trial)), None)
         };
-        let edge_margin = if self.crack.is_some() {
+        let edge_margin = if self.crack.as_ref().is_some_and(|c| c.edge_margin) {
             CRACK_EDGE_MARGIN * self.spacing
         } else {
             0.0

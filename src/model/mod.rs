@@ -201,6 +201,34 @@ impl Model {
                 for f in 0..pd.crack_faces.len() {
                     passes.push(ContactPass::crack(&bodies, s, f, law));
                 }
+                if pd.crack_faces.is_empty() {
+                    // A mesh of solids that share no node: its pieces against each other.
+                    let (piece, sizes) = pd.case.bonds.components(|_| true);
+                    if sizes.len() < 2 {
+                        return Err(crate::error::Error::input(format!(
+                            "contact pair names body \"{}\" as both slave and master: a body is its own master across the faces of its pre-cracks or between its pieces (solids of its mesh that no bond joins), and \"{}\" has no [[precrack]] and is one piece (contact between two bodies names two)",
+                            scene.bodies[s].name, scene.bodies[s].name
+                        )));
+                    }
+                    if sizes.len() >= u8::MAX as usize {
+                        return Err(crate::error::Error::input(format!(
+                            "body \"{}\" is {} pieces that no bond joins: contact between a body's pieces handles up to {}; mesh the pieces as bodies of their own",
+                            scene.bodies[s].name,
+                            sizes.len(),
+                            u8::MAX - 1
+                        )));
+                    }
+                    let law = ContactLaw {
+                        law: c.penalty,
+                        stiffness: hertz_stiffness(
+                            m_body,
+                            m_body,
+                            c.radius.unwrap_or(default_radius(pd.spacing())),
+                        ),
+                        window,
+                    };
+                    passes.push(ContactPass::pieces(&bodies, s, &piece, law));
+                }
                 continue;
             }
             let two = c.two_pass && scene.bodies[m].kind == BodyKind::Deformable;
@@ -285,6 +313,12 @@ impl Model {
     /// evaluates and moves its own particles. Collective.
     pub fn distribute(&mut self, comm: Arc<dyn Comm>) -> Result<()> {
         // Every rank refuses alike, before any collective call.
+        if let Some(p) = self.passes.iter().find(|p| p.is_pieces()) {
+            return Err(crate::error::Error::input(format!(
+                "contact between the pieces of \"{}\" (solids of its mesh that no bond joins) runs in one process for now: run the scene without mpirun",
+                self.bodies[p.slave].name()
+            )));
+        }
         if let Some(p) = self.passes.iter().find(|p| p.is_crack()) {
             return Err(crate::error::Error::input(format!(
                 "contact between the faces of \"{}\"'s pre-cracks runs in one process for now: run the scene without mpirun",

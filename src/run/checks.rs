@@ -263,6 +263,33 @@ pub(super) fn one_pass_warnings(scene: &Scene, model: &Model) -> Vec<String> {
         .collect()
 }
 
+/// Warnings for bodies of several pieces that no bond joins (solids of one mesh that share
+/// no node) and that no contact keeps apart: a contact acts between bodies, or between a
+/// body's pieces only where a `[[contact]]` names the body as its own slave and master
+/// ([`crate::contact::ContactPass::pieces`]); without one the pieces pass through each other.
+pub(super) fn piece_warnings(scene: &Scene, model: &Model) -> Vec<String> {
+    model
+        .bodies
+        .iter()
+        .filter_map(|b| b.as_pd())
+        .filter(|pd| pd.crack_faces.is_empty() && !scene.contacts.iter().any(|c| c.slave == pd.name && c.master == pd.name))
+        .filter_map(|pd| {
+            let (_, sizes) = pd.case.bonds.components(|_| true);
+            let solid = sizes.iter().filter(|&&n| n >= MIN_PIECE).count();
+            (solid > 1).then(|| {
+                format!(
+                    "body \"{}\" is {solid} pieces that no bond joins (solids of its mesh that share no node; {} particles in the largest, {} in the next) and no contact keeps them apart: they pass through each other; add a [[contact]] with slave = \"{}\" and master = \"{}\" (its pieces against each other), or mesh each in a file of its own as a body of its own",
+                    pd.name, sizes[0], sizes[1], pd.name, pd.name
+                )
+            })
+        })
+        .collect()
+}
+
+/// The fewest particles of a piece that [`piece_warnings`] counts as a solid (fewer are
+/// particles a coarse horizon left without a bond, which the run refuses by itself).
+const MIN_PIECE: usize = 4;
+
 /// Warnings for bodies of the linear peridynamic solid in a contact where its figures fall
 /// short (docs/VALIDATION.md, "Any Poisson's ratio"; the Hertz sphere on gmsh tet4): without
 /// the skin correction a contact comes out 6-10 % too wide; with it, above ν = 0.35, 3-4 %

@@ -362,6 +362,7 @@ pub fn check_scene_on(
     // Solver options that the chosen solver ignores.
     warnings.extend(scene.warnings());
     warnings.extend(checks::one_pass_warnings(scene, &model));
+    warnings.extend(checks::piece_warnings(scene, &model));
     warnings.extend(checks::lps_contact_warnings(scene, &model));
     let contact_estimates = model.contact_resolution();
     warnings.extend(

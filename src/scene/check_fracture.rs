@@ -108,8 +108,9 @@ impl Scene {
 impl Scene {
     /// A `[[contact]]` whose slave and master are one body: with the short-range method the
     /// pieces of a body whose bonds fail ([`crate::contact::fragments`]); otherwise the faces
-    /// of that body's pre-cracks pressed together ([`crate::case::crack_faces`]), which needs
-    /// a pre-crack and no friction yet; `err` points at a key of the block.
+    /// of that body's pre-cracks pressed together ([`crate::case::crack_faces`]), or without
+    /// one its pieces against each other ([`crate::contact::ContactPass::pieces`]); no
+    /// friction yet; `err` points at a key of the block.
     pub(super) fn check_self_contact(
         &self,
         c: &super::ContactSpec,
@@ -135,20 +136,14 @@ impl Scene {
                 ),
             ));
         }
-        if !self.precracks.iter().any(|p| p.body == c.slave) {
-            return Err(err(
-                &slave,
-                format!(
-                    "contact pair names body \"{}\" as both slave and master: a body is its own master only across the faces of its pre-cracks, and it has no [[precrack]] (contact between two bodies names two)",
-                    excerpt(&c.slave)
-                ),
-            ));
-        }
+        // Without a pre-crack the body's pieces (solids of its mesh that no bond joins) are
+        // each other's masters: whether it has two is known once its bonds are
+        // ([`crate::model::Model::from_scene`]).
         if c.friction > 0.0 {
             return Err(err(
                 "friction",
                 format!(
-                    "friction between the faces of \"{}\"'s pre-cracks is not implemented yet: the faces are frictionless (leave friction out)",
+                    "friction between \"{}\" and itself (the faces of its pre-cracks, or its pieces) is not implemented yet: that contact is frictionless (leave friction out)",
                     excerpt(&c.slave)
                 ),
             ));

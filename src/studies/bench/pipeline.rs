@@ -149,6 +149,7 @@ pub fn run_pipeline(
                 &volume,
                 volume.len(),
                 case.particles.spacing,
+                &[],
             )
         });
         push("surface alone", seconds, n, "particles/s", peak);

@@ -1,0 +1,125 @@
+//! A mesh of two solids that share no node (two cubes stacked 0.1 m apart in one file, gmsh's
+//! defaults, `meshes/two_boxes_gap.msh`): one body whose pieces no bond joins, kept apart by
+//! the contact between its pieces that `convert` writes (docs/guide/scene.md, "Contact").
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use pdcontact::body::PdBody;
+
+const MESH: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/meshes/two_boxes_gap.msh");
+
+/// `pdcontact convert` of the mesh into `dir`: the case file.
+fn convert(dir: &Path) -> PathBuf {
+    let out = Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+        .args(["convert", MESH, "-o"])
+        .arg(dir)
+        .arg("--quiet")
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    dir.join("case.toml")
+}
+
+/// Whether particle `i` is of the upper cube (reference z from 1.1 m to 2.1 m).
+fn upper(pd: &PdBody, i: usize) -> bool {
+    pd.reference[i].z > 1.05
+}
+
+#[test]
+fn the_pieces_of_a_mesh_rest_on_each_other_and_carry_the_load_across() {
+    let dir = common::temp_dir("pieces");
+    let case = convert(&dir);
+    let text = std::fs::read_to_string(&case).expect("case");
+    assert!(
+        text.contains("slave = \"part\"\nmaster = \"part\""),
+        "{text}"
+    );
+    let scene = pdcontact::scene::Scene::load(&case).expect("loads");
+    let (model, summary) = pdcontact::run::run_scene(
+        &scene,
+        &pdcontact::run::RunOptions {
+            output: Some(dir.join("out")),
+            quiet: true,
+            stop: None,
+            comm: None,
+        },
+    )
+    .expect("runs");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(summary.converged);
+    let pd = model.bodies[0].as_pd().expect("deformable");
+    let n = pd.len();
+    // Every node of the two facing faces is a surface particle, though each face is nearer to
+    // the other than the surface kernel reaches.
+    let facing: Vec<usize> = (0..n)
+        .filter(|&i| {
+            (pd.reference[i].z - 1.0).abs() < 1e-9 || (pd.reference[i].z - 1.1).abs() < 1e-9
+        })
+        .collect();
+    assert!(facing.len() > 100, "{}", facing.len());
+    let missed = facing
+        .iter()
+        .filter(|&&i| !pd.case.surface.is_surface[i])
+        .count();
+    assert_eq!(missed, 0, "facing-face particles off the surface");
+    // The upper cube came down the 0.1 m and rests on the lower one, no particle of its
+    // underside deeper than a tenth of a spacing in it.
+    let z = |i: usize| pd.reference[i].z + pd.u[i].z;
+    let lower_top = (0..n)
+        .filter(|&i| !upper(pd, i))
+        .map(z)
+        .fold(f64::MIN, f64::max);
+    let upper_bottom = (0..n)
+        .filter(|&i| upper(pd, i))
+        .map(z)
+        .fold(f64::MAX, f64::min);
+    let dx = pd.spacing();
+    assert!(
+        upper_bottom > lower_top - 0.1 * dx,
+        "{upper_bottom} vs {lower_top}"
+    );
+    assert!(
+        upper_bottom < lower_top + 0.01,
+        "the gap did not close: {upper_bottom} vs {lower_top}"
+    );
+    // The contact across carries the upper cube's load (its share of the load by volume):
+    // its forces as a slave and its reactions as a master together.
+    let (mut load, mut contact) = (0.0, 0.0);
+    for i in (0..n).filter(|&i| upper(pd, i)) {
+        load += pd.load[i].z;
+        contact += pd.contact_force[i].z;
+    }
+    assert!(load < 0.0);
+    assert!(
+        ((contact + load) / load).abs() < 1e-3,
+        "contact {contact} against load {load}"
+    );
+}
+
+#[test]
+fn pieces_that_no_contact_keeps_apart_are_named() {
+    let dir = common::temp_dir("pieces-warn");
+    let case = convert(&dir);
+    let text = std::fs::read_to_string(&case).expect("case");
+    let cut = text
+        .find("\n# The mesh is 2 solids")
+        .expect("the pieces' contact");
+    std::fs::write(&case, &text[..cut]).expect("edited");
+    let scene = pdcontact::scene::Scene::load(&case).expect("loads");
+    let (_, warnings, _) = pdcontact::run::check_scene(&scene).expect("checks");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("is 2 pieces that no bond joins")
+                && w.contains("pass through each other")),
+        "{warnings:?}"
+    );
+}
