@@ -123,3 +123,28 @@ fn pieces_that_no_contact_keeps_apart_are_named() {
         "{warnings:?}"
     );
 }
+
+/// Two unit hex8 cubes stacked, meshed apart: the lower one's top nodes and the upper one's
+/// bottom nodes lie on each other (nodes 5-8 and 9-12).
+const COINCIDENT: &str = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n16\n\
+1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0 0 1\n6 1 0 1\n7 1 1 1\n8 0 1 1\n\
+9 0 0 1\n10 1 0 1\n11 1 1 1\n12 0 1 1\n13 0 0 2\n14 1 0 2\n15 1 1 2\n16 0 1 2\n$EndNodes\n\
+$Elements\n2\n1 5 2 0 1 1 2 3 4 5 6 7 8\n2 5 2 0 2 9 10 11 12 13 14 15 16\n$EndElements\n";
+
+#[test]
+fn nodes_on_top_of_each_other_are_refused_by_name() {
+    let dir = common::temp_dir("pieces-coincident");
+    let mesh = dir.join("stacked.msh");
+    std::fs::write(&mesh, COINCIDENT).expect("mesh");
+    let out = Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+        .args(["convert", "--quiet", "-o"])
+        .arg(dir.join("case"))
+        .arg(&mesh)
+        .output()
+        .expect("runs");
+    let _ = std::fs::remove_dir_all(&dir);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("stacked.msh"), "{err}");
+    assert!(err.contains("nodes on top of each other (node 5 and node 9 at [0.000000e0, 0.000000e0, 1.000000e0])"), "{err}");
+}

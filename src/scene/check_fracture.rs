@@ -137,8 +137,23 @@ impl Scene {
             ));
         }
         // Without a pre-crack the body's pieces (solids of its mesh that no bond joins) are
-        // each other's masters: whether it has two is known once its bonds are
-        // ([`crate::model::Model::from_scene`]).
+        // each other's masters: whether a mesh has two is known once its bonds are
+        // ([`crate::model::Model::from_scene`]); a generated shape is one.
+        let generated = self
+            .bodies
+            .iter()
+            .find(|b| b.name == c.slave)
+            .is_some_and(|b| b.mesh.is_none());
+        if generated && !self.precracks.iter().any(|p| p.body == c.slave) {
+            return Err(err(
+                &slave,
+                format!(
+                    "contact pair names body \"{}\" as both slave and master: a body is its own master across the faces of its pre-cracks or between the pieces of its mesh (solids that share no node), and \"{}\" has no [[precrack]] and is a generated shape, one piece (contact between two bodies names two)",
+                    excerpt(&c.slave),
+                    excerpt(&c.slave)
+                ),
+            ));
+        }
         if c.friction > 0.0 {
             return Err(err(
                 "friction",
