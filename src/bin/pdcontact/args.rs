@@ -41,7 +41,7 @@ pub(crate) enum Command {
         #[arg(long)]
         spacing: Option<f64>,
         /// Horizon factor m (δ = m·Δ).
-        #[arg(long, default_value_t = DEFAULT_HORIZON_FACTOR)]
+        #[arg(long, default_value_t = DEFAULT_HORIZON_FACTOR, value_parser = parse_horizon_factor)]
         horizon_factor: f64,
         /// Which nodes of a second-order mesh become particles: its corners (default), or all
         /// of them (each tet10 cut into eight tet4, each hex20 into eight hex8).
@@ -100,7 +100,7 @@ pub(crate) enum Command {
         contact_ratio: f64,
         /// With --mesh: the horizon δ = MΔ in particle spacings (default 3); see
         /// docs/VALIDATION.md, "Few spacings across the contact".
-        #[arg(long, value_name = "M", requires = "mesh")]
+        #[arg(long, value_name = "M", requires = "mesh", value_parser = parse_horizon_factor)]
         horizon_factor: Option<f64>,
         /// With --mesh: which nodes of a second-order mesh become particles: its corners
         /// (default), or all of them (each tet10 cut into eight tet4, each hex20 into eight
@@ -454,6 +454,21 @@ pub(crate) enum SweepProblem {
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub(crate) enum SweepSet {
     Hertz,
+}
+
+/// A horizon factor as a scene takes it: at least 1 (a horizon shorter than the spacing
+/// holds no bonds), finite.
+pub(crate) fn parse_horizon_factor(s: &str) -> Result<f64, String> {
+    let m: f64 = s
+        .parse()
+        .map_err(|_| format!("expected a number, found '{s}'"))?;
+    if m.is_finite() && m >= 1.0 {
+        Ok(m)
+    } else {
+        Err(format!(
+            "the horizon factor must be at least 1 (a horizon shorter than the spacing holds no bonds), got {s}"
+        ))
+    }
 }
 
 pub(crate) fn parse_format(s: &str) -> Result<Format, String> {
