@@ -100,7 +100,7 @@ pub(crate) enum Command {
         contact_ratio: f64,
         /// With --mesh: the horizon δ = MΔ in particle spacings (default 3); see
         /// docs/VALIDATION.md, "Few spacings across the contact".
-        #[arg(long, value_name = "M", requires = "mesh", value_parser = parse_horizon_factor)]
+        #[arg(long, value_name = "M", requires = "mesh")]
         horizon_factor: Option<f64>,
         /// With --mesh: which nodes of a second-order mesh become particles: its corners
         /// (default), or all of them (each tet10 cut into eight tet4, each hex20 into eight
