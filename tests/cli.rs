@@ -404,3 +404,18 @@ fn several_mpi_copies_are_refused() {
     assert_eq!(json_of(&out)["nodes_total"], 726);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn convert_refuses_a_horizon_factor_under_one() {
+    let dir = temp_dir("horizon-factor");
+    let out = exe()
+        .args(["convert", "--horizon-factor", "0.5", "-o"])
+        .arg(dir.join("case"))
+        .arg(repo("meshes/two_boxes_gap.msh"))
+        .output()
+        .expect("runs");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("'0.5'") && err.contains("at least 1"), "{err}");
+}
