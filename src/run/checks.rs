@@ -272,7 +272,14 @@ pub(super) fn piece_warnings(scene: &Scene, model: &Model) -> Vec<String> {
         .bodies
         .iter()
         .filter_map(|b| b.as_pd())
-        .filter(|pd| pd.crack_faces.is_empty() && !scene.contacts.iter().any(|c| c.slave == pd.name && c.master == pd.name))
+        .filter(|pd| {
+            // A pre-crack's faces have warnings and errors of their own.
+            !scene.precracks.iter().any(|p| p.body == pd.name)
+                && !scene
+                    .contacts
+                    .iter()
+                    .any(|c| c.slave == pd.name && c.master == pd.name)
+        })
         .filter_map(|pd| {
             let (_, sizes) = pd.case.bonds.components(|_| true);
             let solid = sizes.iter().filter(|&&n| n >= MIN_PIECE).count();
