@@ -629,44 +629,7 @@ impl PdCase {
         } else {
             bonds.without(&across_gaps)
         };
-        // Nodes on top of each other (two solids meshed apart that share a face but not its
-        // nodes) make bonds of no length, whose direction is undefined: every later stage
-        // would divide by it.
-        let n_real = particles.len();
-        let coincident = owned.clone().find_map(|i| {
-            bonds
-                .range(i)
-                .find(|&b| {
-                    bonds.length(b) <= 1e-6 * spacing && (bonds.partner[b] as usize) < n_real
-                })
-                .map(|b| (i, bonds.partner[b] as usize))
-        });
-        let coincident_count = part.as_ref().map_or(coincident.is_some() as usize, |p| {
-            p.total(coincident.is_some() as usize)
-        });
-        if coincident_count > 0 {
-            let node = |i: usize| {
-                particles
-                    .node
-                    .get(i)
-                    .and_then(|&k| mesh.node_ids.get(k as usize))
-                    .map_or(format!("particle {i}"), |id| format!("node {id}"))
-            };
-            let which = coincident.map_or(String::new(), |(i, j)| {
-                let x = position[i];
-                format!(
-                    " ({} and {} at [{:.6e}, {:.6e}, {:.6e}])",
-                    node(i),
-                    node(j),
-                    x.x,
-                    x.y,
-                    x.z
-                )
-            });
-            return Err(Error::input(format!(
-                "the mesh has nodes on top of each other{which}, closer than a millionth of the spacing: two solids meshed apart that share a face but not its nodes? Merge the coincident nodes (gmsh: fragment the volumes before meshing, BooleanFragments, so that they share the face's nodes, or Coherence Mesh) to join the solids, or move them apart to keep them separate (a [[contact]] naming the body as its own slave and master then keeps its pieces apart)"
-            )));
-        }
+        sight::refuse_coincident(&bonds, &owned, &particles, &mesh, part.as_ref())?;
         let bonds_across_gaps = across_gaps
             .iter()
             .filter(|&&(i, _)| owned.contains(&(i as usize)))

@@ -12,7 +12,8 @@
 //! chord of a hole, a cap's inner face, a re-entrant corner) are kept, as are bonds to a
 //! symmetry plane's mirror images that no face separates. Only faces with a facing face
 //! within reach, and the faces near them, are searched: a convex or gently curved body costs
-//! one search over its faces (docs/FRACTURE.md, "The notch as the mesh has it").
+//! one search over its faces (docs/FRACTURE.md, "The notch as the mesh has it"). Nodes on
+//! top of each other, whose bond would have no length, are refused ([`refuse_coincident`]).
 
 use rayon::prelude::*;
 
@@ -242,6 +243,52 @@ pub fn bonds_across_gaps(
             cut
         })
         .collect()
+}
+
+/// Refuses a mesh with nodes on top of each other (closer than a millionth of the spacing
+/// along a bond of `owned`'s rows; every rank of a decomposed build alike): two solids meshed
+/// apart that share a face but not its nodes. Their bond has no length and no direction, and
+/// every later stage would divide by it; the error names two of them and what to do.
+pub fn refuse_coincident(
+    bonds: &BondList,
+    owned: &std::ops::Range<usize>,
+    particles: &crate::case::discretize::Discretization,
+    mesh: &pdcontact_importers::Mesh,
+    part: Option<&crate::case::part::CasePart>,
+) -> crate::error::Result<()> {
+    let n = particles.len();
+    let tiny = 1e-6 * particles.spacing;
+    let coincident = owned.clone().find_map(|i| {
+        bonds
+            .range(i)
+            .find(|&b| bonds.length(b) <= tiny && (bonds.partner[b] as usize) < n)
+            .map(|b| (i, bonds.partner[b] as usize))
+    });
+    let found = coincident.is_some() as usize;
+    if part.map_or(found, |p| p.total(found)) == 0 {
+        return Ok(());
+    }
+    let node = |i: usize| {
+        particles
+            .node
+            .get(i)
+            .and_then(|&k| mesh.node_ids.get(k as usize))
+            .map_or(format!("particle {i}"), |id| format!("node {id}"))
+    };
+    let which = coincident.map_or(String::new(), |(i, j)| {
+        let x = particles.position[i];
+        format!(
+            " ({} and {} at [{:.6e}, {:.6e}, {:.6e}])",
+            node(i),
+            node(j),
+            x.x,
+            x.y,
+            x.z
+        )
+    });
+    Err(crate::error::Error::input(format!(
+        "the mesh has nodes on top of each other{which}, closer than a millionth of the spacing: two solids meshed apart that share a face but not its nodes? Merge the coincident nodes (gmsh: fragment the volumes before meshing, BooleanFragments, so that they share the face's nodes, or Coherence Mesh) to join the solids, or move them apart to keep them separate (a [[contact]] naming the body as its own slave and master then keeps its pieces apart)"
+    )))
 }
 
 #[cfg(test)]
