@@ -28,6 +28,7 @@
 //! the end of one increment to the next (METHOD.md §10). Each increment after the second
 //! starts from the line through the last two equilibria.
 
+use super::coarse::CoarseSpace;
 use super::tangent::{scale_and_mask, Dofs, Tangent};
 use super::{
     applied_norm, check_missed, displacement_reference, driven, free_factor, full_loads,
@@ -178,10 +179,12 @@ fn residual(model: &Model, out: &mut Dofs) -> f64 {
     sq.sqrt()
 }
 
-/// Preconditioned conjugate gradients for `A x = b` to `‖r‖ ≤ eta ‖b‖`; returns the
+/// Preconditioned conjugate gradients for `A x = b` in the inner product `xᵀ S y` (where
+/// `A` is symmetric: [`super::tangent`]) to `‖r‖ ≤ eta ‖b‖`; returns the
 /// iterations taken.
 fn pcg(
     tangent: &mut Tangent,
+    space: Option<&CoarseSpace>,
     model: &mut Model,
     b: &Dofs,
     eta: f64,
@@ -196,12 +199,12 @@ fn pcg(
     if !(norm0 > 0.0) {
         return 0;
     }
-    tangent.precondition(r, z);
+    tangent.precondition(space, model, r, z);
     p.clone_from(z);
-    let mut rz = r.dot(z);
+    let mut rz = r.dot_shares(z, model);
     for k in 1..=MAX_LINEAR {
         tangent.apply(model, p, &mut ap);
-        let pap = p.dot(&ap);
+        let pap = p.dot_shares(&ap, model);
         if !(pap > 0.0) {
             // Not positive along p (a compressed bond's negative stiffness, say): keep what
             // has been found, or take the preconditioned residual as the direction.
@@ -216,8 +219,8 @@ fn pcg(
         if r.dot(r).sqrt() <= eta * norm0 {
             return k;
         }
-        tangent.precondition(r, z);
-        let rz_new = r.dot(z);
+        tangent.precondition(space, model, r, z);
+        let rz_new = r.dot_shares(z, model);
         p.xpby(z, rz_new / rz);
         rz = rz_new;
     }
@@ -311,6 +314,7 @@ fn solve(
     let mut before: Option<(State, f64)> = None;
     let mut counts = Counts::default();
     let mut bond_blocks = vec![None; model.bodies.len()];
+    let mut coarse = CoarseSpace::new(model);
     while done < 1.0 {
         let target = if done + step > 1.0 - 1e-12 {
             1.0
@@ -342,6 +346,7 @@ fn solve(
             monitor,
             &mut counts,
             &mut bond_blocks,
+            &mut coarse,
             &mut stats,
         )?;
         match outcome {
@@ -436,6 +441,7 @@ fn increment(
     monitor: &mut dyn Monitor,
     counts: &mut Counts,
     bond_blocks: &mut [Option<Vec<nalgebra::Matrix3<f64>>>],
+    coarse: &mut Option<CoarseSpace>,
     stats: &mut RunStats,
 ) -> Result<Increment> {
     let reference = applied_norm(model);
@@ -471,7 +477,7 @@ fn increment(
         // the trial states of the line searches (METHOD.md §9): the overstretched ones break,
         // and the iterations go on from there at the same load, until none breaks.
         if rel < FAILURE_TEST * tolerance && model.break_overstretched() > 0 {
-            restart(model, bond_blocks, stats);
+            restart(model, bond_blocks, coarse, stats);
             (previous_tangent, previous, it) = (None, None, 0);
             history.clear();
             gave_up = None;
@@ -507,7 +513,7 @@ fn increment(
             };
             // ADR, its bonds held too, found the equilibrium: its bonds are tested there.
             if relaxed && model.break_overstretched() > 0 {
-                restart(model, bond_blocks, stats);
+                restart(model, bond_blocks, coarse, stats);
                 (previous_tangent, previous, it) = (None, None, 0);
                 history.clear();
                 gave_up = None;
@@ -534,6 +540,9 @@ fn increment(
         }
         counts.newton += 1;
         let mut tangent = Tangent::new(model, stabilise, previous_tangent.as_ref(), bond_blocks);
+        if let Some(space) = coarse.as_ref() {
+            tangent.build_coarse(model, space);
+        }
         stabilise *= 0.5;
         // Inexact Newton (Eisenstat and Walker's second choice): loose while the residual
         // falls slowly, tight as it falls fast, never much tighter than the tolerance needs.
@@ -544,7 +553,15 @@ fn increment(
         .max(0.3 * tolerance / rel)
         .clamp(1e-8, ETA_MAX);
         previous = Some(rel);
-        counts.linear += pcg(&mut tangent, model, &rhs, eta, &mut d, &mut work);
+        counts.linear += pcg(
+            &mut tangent,
+            coarse.as_ref(),
+            model,
+            &rhs,
+            eta,
+            &mut d,
+            &mut work,
+        );
         monitor.linear_iterations(counts.linear);
         let g0 = d.dot(&rhs);
         if !(g0 > 0.0) {
@@ -576,9 +593,13 @@ fn increment(
 fn restart(
     model: &mut Model,
     bond_blocks: &mut [Option<Vec<nalgebra::Matrix3<f64>>>],
+    coarse: &mut Option<CoarseSpace>,
     stats: &mut RunStats,
 ) {
     bond_blocks.iter_mut().for_each(|b| *b = None);
+    if let Some(space) = coarse.as_mut() {
+        space.reassemble(model);
+    }
     stats.refailed += 1;
     model.compute_forces();
 }

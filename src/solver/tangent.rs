@@ -4,10 +4,13 @@
 //! The unknowns are the displacements of every deformable body's particles and the
 //! translation of every free rigid body along its axis ([`Dofs`]). The operator is
 //! `A = S⁻¹ K`, `K = −∂F/∂u` the tangent of the out-of-balance force of Eq. 28 and `S` the
-//! share of each particle's volume that the model holds (½ per symmetry plane it lies on):
-//! the bond pass gives particle `i` the force `s_i Σ_j p_ij φ_ij` with symmetric pair weights
-//! `p_ij` ([`crate::case::pairs`]), so `S⁻¹ K` is symmetric where `K` is not, and conjugate
-//! gradients apply.
+//! share of each particle's volume that the model holds (½ per symmetry plane it lies on).
+//! `K` is symmetric (it is the Hessian of the model's energy: a particle on a symmetry plane
+//! bonds to a neighbour and to its image, and holds half its own volume), `A` is not where a
+//! body has symmetry planes; `A` is symmetric in the inner product `⟨x, y⟩ = xᵀ S y`
+//! ([`Dofs::dot_shares`]), in which the conjugate gradients of [`super::newton`] run. (Run
+//! in the plain one they lost their conjugacy: the coarse space of [`super::coarse`] then
+//! diverged on a body held only by contact.)
 //!
 //! * **Bonds.** Linearised kinematics: Eq. 26 is linear in the displacements, so the product
 //!   is one bond-force pass at the positions `X + v` (the force pass itself, sign reversed).
@@ -35,6 +38,8 @@
 //!   it changes.
 
 use nalgebra::Matrix3;
+
+use super::coarse::CoarseSpace;
 use rayon::prelude::*;
 
 use super::free_factor;
@@ -79,8 +84,33 @@ impl Dofs {
                 .into_iter()
                 .fold(0.0, |x, y| x + y);
         }
-        s + self
-            .rigid
+        s + self.rigid_dot(other)
+    }
+
+    /// `Σ self·S·other`, each particle's product weighted by its share `s_i` (a free rigid
+    /// body's by 1): the inner product in which `A = S⁻¹ K` is symmetric, `K` being so (a
+    /// particle on a symmetry plane bonds to its neighbours and to their images, and
+    /// `S⁻¹` counts those rows twice over). Fixed order, as [`Dofs::dot`].
+    pub fn dot_shares(&self, other: &Dofs, model: &Model) -> f64 {
+        let mut s = 0.0;
+        for ((a, b), body) in self.pd.iter().zip(&other.pd).zip(&model.bodies) {
+            let Some(pd) = body.as_pd() else { continue };
+            let ghosts = &pd.case.ghosts;
+            s += block_sums(
+                0..a.len(),
+                || 0.0,
+                |i| a[i].dot(&b[i]) * ghosts.share(i),
+                |x, y| x + y,
+            )
+            .into_iter()
+            .fold(0.0, |x, y| x + y);
+        }
+        s + self.rigid_dot(other)
+    }
+
+    /// The free rigid bodies' part of a product.
+    fn rigid_dot(&self, other: &Dofs) -> f64 {
+        self.rigid
             .iter()
             .zip(&other.rigid)
             .map(|(a, b)| a * b)
@@ -124,7 +154,7 @@ impl Dofs {
 
 /// Where a contact's reaction goes.
 #[derive(Clone, Copy, Debug)]
-enum Master {
+pub(super) enum Master {
     /// A deformable body's segment: its corner nodes with the weights `N_a`.
     Nodes {
         body: usize,
@@ -142,25 +172,25 @@ enum Master {
 /// tangential law's `k_s` in the master's tangent plane, less the slip direction `s` where
 /// the slave slips.
 #[derive(Clone, Copy, Debug)]
-struct Spring {
+pub(super) struct Spring {
     /// The contact pass, and whether the spring is a contact's (not the stabilisation's).
-    pass: usize,
-    contact: bool,
-    body: usize,
-    slave: u32,
-    normal: Vec3,
+    pub pass: usize,
+    pub contact: bool,
+    pub body: usize,
+    pub slave: u32,
+    pub normal: Vec3,
     /// N/m, the pass's weight and the slave's share included (the force's own factors).
-    k: f64,
+    pub k: f64,
     /// Friction's stiffness in the tangent plane, N/m (0 without friction).
-    shear: f64,
+    pub shear: f64,
     /// The unit slip direction of a slipping slave; zero while it sticks.
-    slip: Vec3,
-    master: Master,
+    pub slip: Vec3,
+    pub master: Master,
 }
 
 impl Spring {
     /// `C`, symmetric.
-    fn matrix(&self) -> Matrix3<f64> {
+    pub fn matrix(&self) -> Matrix3<f64> {
         let nn = self.normal * self.normal.transpose();
         let mut c = nn * self.k;
         if self.shear > 0.0 {
@@ -195,6 +225,8 @@ pub(super) struct Tangent {
     rigid_inverse: Vec<f64>,
     /// Scratch positions for the linearised product.
     scratch: Vec<Vec<Vec3>>,
+    /// The factorised `Pᵀ K P` of the coarse space, where one is used.
+    coarse: Option<nalgebra::linalg::Cholesky<f64, nalgebra::Dyn>>,
 }
 
 /// The tangent of a bond `w n⊗n`-like block: `ξξᵀ/|ξ|²` (linearised) or
@@ -349,7 +381,22 @@ impl Tangent {
             block_inverse,
             rigid_inverse,
             scratch: vec![Vec::new(); nb],
+            coarse: None,
         }
+    }
+
+    /// The coarse correction of the preconditioner ([`super::coarse`]): `space`'s
+    /// `Pᵀ K P`, the bonds' part and this tangent's springs' (the stabilisation's among
+    /// them: a body held only by contact has modes that only they resist), factorised.
+    /// Left out where the factorisation fails: block Jacobi alone.
+    pub fn build_coarse(&mut self, model: &Model, space: &CoarseSpace) {
+        self.coarse = space.matrix(model, &self.springs).cholesky();
+    }
+
+    /// The springs of this tangent (contacts and the stabilisation's).
+    #[cfg(test)]
+    pub fn springs(&self) -> &[Spring] {
+        &self.springs
     }
 
     /// `out = A v` (fixed components zero).
@@ -433,8 +480,9 @@ impl Tangent {
         scale_and_mask(model, out);
     }
 
-    /// `z = M⁻¹ r`, the block-Jacobi preconditioner.
-    pub fn precondition(&self, r: &Dofs, z: &mut Dofs) {
+    /// `z = M⁻¹ r`: block Jacobi, plus the coarse space's correction
+    /// `P (Pᵀ K P)⁻¹ Pᵀ S r` where one is given.
+    pub fn precondition(&self, space: Option<&CoarseSpace>, model: &Model, r: &Dofs, z: &mut Dofs) {
         for ((z, r), inv) in z.pd.iter_mut().zip(&r.pd).zip(&self.block_inverse) {
             z.par_iter_mut()
                 .zip(r.par_iter().zip(inv.par_iter()))
@@ -443,6 +491,9 @@ impl Tangent {
         }
         for ((z, r), inv) in z.rigid.iter_mut().zip(&r.rigid).zip(&self.rigid_inverse) {
             *z = r * inv;
+        }
+        if let (Some(space), Some(factor)) = (space, &self.coarse) {
+            space.correct(model, factor, r, z);
         }
     }
 }
