@@ -289,10 +289,11 @@ fn an_lps_sphere_on_a_bond_based_one() {
 }
 
 /// With one pass both solvers converge to the same equilibrium, and the slave's figures are
-/// its mesh's (measured on this pair: ADR 1,202 iterations, static 41 Newton and 285 ADR;
+/// its mesh's (measured on this pair: ADR 1,202 iterations, static 58 Newton iterations;
 /// upper MRE 4.65 %, radius −1.10 %; two passes 4.29 %, +1.72 %; the upper mesh on a rigid
-/// plane 4.40 %, +1.74 %). The static solver's Newton iterations stall here once the contact
-/// has settled (its rim cycling) and ADR finishes the increment from where they stopped.
+/// plane 4.40 %, +1.74 %). The static solver's Newton iterations stalled here once the
+/// contact had settled (its rim cycling) and ADR finished the increment from where they
+/// stopped (41 Newton, 285 ADR), until the line search followed the energy's slope.
 /// Before the run, `run --check` says that the master's pressure reads rough.
 #[test]
 fn one_pass_converges_to_the_slaves_figures() {
@@ -336,11 +337,12 @@ fn one_pass_converges_to_the_slaves_figures() {
         "{}",
         newton.summary.iterations
     );
-    // The hand-over: ADR finishes from near the equilibrium, in fewer iterations than ADR
-    // from the start.
+    // Where Newton stalls, ADR finishes from near the equilibrium, in fewer iterations than
+    // ADR from the start. (Since the line search follows the energy's slope, `dᵀS(S⁻¹R)`,
+    // Newton converges here by itself: 58 iterations, no ADR; it took 41 and 285 of ADR.)
     let relaxed = newton.summary.solver.relaxation_iterations;
     assert!(
-        relaxed > 0 && relaxed < adr.summary.iterations,
+        relaxed < adr.summary.iterations,
         "ADR after Newton: {relaxed}, ADR alone: {}",
         adr.summary.iterations
     );

@@ -14,8 +14,9 @@ use nalgebra::linalg::Cholesky;
 use nalgebra::{DMatrix, DVector, Dyn, Matrix3, SMatrix, SVector};
 use rayon::prelude::*;
 
+use super::dofs::Dofs;
 use super::free_factor;
-use super::tangent::{Dofs, Master, Spring};
+use super::tangent::{Master, Spring};
 use crate::body::Body;
 use crate::math::Vec3;
 use crate::model::Model;
@@ -282,8 +283,9 @@ impl CoarseSpace {
 mod tests {
     use std::path::Path;
 
+    use super::super::dofs::Dofs;
     use super::super::free_factor;
-    use super::super::tangent::{Dofs, Tangent};
+    use super::super::tangent::Tangent;
     use super::CoarseSpace;
     use crate::body::Body;
     use crate::math::Vec3;

@@ -29,6 +29,7 @@
 
 mod adr;
 mod coarse;
+mod dofs;
 mod explicit;
 mod newton;
 mod tangent;

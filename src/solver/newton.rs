@@ -7,7 +7,7 @@
 //! free degrees of freedom, rows divided by each particle's share) to a relative residual
 //! `η` that tightens as the out-of-balance force nears the tolerance (inexact Newton: no
 //! more conjugate-gradient iterations than the next Newton step can use), then looks along
-//! `d` for the point where the energy's slope `d·S⁻¹R(u + αd)` has fallen to half its value
+//! `d` for the point where the energy's slope `d·R(u + αd)` has fallen to half its value
 //! at `α = 0` (regula falsi, at most [`LINE_SEARCH`] force evaluations; a trial state with a
 //! missed contact is a step too long), unless the whole step is sound and brings slaves into
 //! contact that were not: that step is taken whole, so that the contact does not grow by one
@@ -29,7 +29,8 @@
 //! starts from the line through the last two equilibria.
 
 use super::coarse::CoarseSpace;
-use super::tangent::{scale_and_mask, Dofs, Tangent};
+use super::dofs::Dofs;
+use super::tangent::{scale_and_mask, Tangent};
 use super::{
     applied_norm, check_missed, displacement_reference, driven, free_factor, full_loads,
     record_increment, scale_loads, Monitor, RunStats,
@@ -563,7 +564,8 @@ fn increment(
             &mut work,
         );
         monitor.linear_iterations(counts.linear);
-        let g0 = d.dot(&rhs);
+        // The energy's slope along d: `dᵀR = dᵀS (S⁻¹R)`, the shares put back.
+        let g0 = d.dot_shares(&rhs, model);
         if !(g0 > 0.0) {
             gave_up = Some(format!(
                 "Newton iteration {it}: the linear solve gave no descent direction"
@@ -627,10 +629,10 @@ fn stalled(history: &[(f64, usize)]) -> bool {
     best(&recent[STALL_WINDOW..]) > 0.5 * best(&recent[..STALL_WINDOW])
 }
 
-/// Moves the model along `d` to where the energy's slope `d·S⁻¹R` has fallen to half of `g0`
-/// (its value at the start), by regula falsi, or the whole step where that is sound and
-/// brings more slaves into contact; ends with the forces evaluated at the state taken. False
-/// if no trial state was sound.
+/// Moves the model along `d` to where the energy's slope `d·R` (`R` the out-of-balance
+/// force, not divided by the shares) has fallen to half of `g0` (its value at the start), by
+/// regula falsi, or the whole step where that is sound and brings more slaves into contact;
+/// ends with the forces evaluated at the state taken. False if no trial state was sound.
 fn line_search(model: &mut Model, d: &Dofs, g0: f64, scratch: &mut Dofs) -> bool {
     let start = State::of(model);
     let contacts = model.contact_count();
@@ -656,7 +658,7 @@ fn line_search(model: &mut Model, d: &Dofs, g0: f64, scratch: &mut Dofs) -> bool
             continue;
         }
         residual(model, scratch);
-        let g = d.dot(scratch);
+        let g = d.dot_shares(scratch, model);
         last_sound = Some(alpha);
         // The whole step brought slaves into contact that the Newton direction knew nothing
         // of: taken whole, they enter the next tangent pressed in. Cut back to where they

@@ -40,6 +40,7 @@
 use nalgebra::Matrix3;
 
 use super::coarse::CoarseSpace;
+use super::dofs::Dofs;
 use rayon::prelude::*;
 
 use super::free_factor;
@@ -49,108 +50,7 @@ use crate::case::pairs::{pair_forces, PairKinematics};
 use crate::contact::ContactPass;
 use crate::math::Vec3;
 use crate::model::Model;
-use crate::reduction::block_sums;
 use crate::scene::{Kinematics, Motion};
-
-/// The unknowns of a static run: per deformable body its particles' displacements (empty
-/// for a rigid body), per free rigid body its translation along its axis (0 otherwise).
-#[derive(Clone, Debug)]
-pub(super) struct Dofs {
-    pub pd: Vec<Vec<Vec3>>,
-    pub rigid: Vec<f64>,
-}
-
-impl Dofs {
-    /// Zeros shaped like the model.
-    pub fn zeros(model: &Model) -> Dofs {
-        Dofs {
-            pd: model
-                .bodies
-                .iter()
-                .map(|b| {
-                    b.as_pd()
-                        .map_or(Vec::new(), |pd| vec![Vec3::zeros(); pd.len()])
-                })
-                .collect(),
-            rigid: vec![0.0; model.bodies.len()],
-        }
-    }
-
-    /// `Σ self·other`, in a fixed order (the same bits on any thread count).
-    pub fn dot(&self, other: &Dofs) -> f64 {
-        let mut s = 0.0;
-        for (a, b) in self.pd.iter().zip(&other.pd) {
-            s += block_sums(0..a.len(), || 0.0, |i| a[i].dot(&b[i]), |x, y| x + y)
-                .into_iter()
-                .fold(0.0, |x, y| x + y);
-        }
-        s + self.rigid_dot(other)
-    }
-
-    /// `Σ self·S·other`, each particle's product weighted by its share `s_i` (a free rigid
-    /// body's by 1): the inner product in which `A = S⁻¹ K` is symmetric, `K` being so (a
-    /// particle on a symmetry plane bonds to its neighbours and to their images, and
-    /// `S⁻¹` counts those rows twice over). Fixed order, as [`Dofs::dot`].
-    pub fn dot_shares(&self, other: &Dofs, model: &Model) -> f64 {
-        let mut s = 0.0;
-        for ((a, b), body) in self.pd.iter().zip(&other.pd).zip(&model.bodies) {
-            let Some(pd) = body.as_pd() else { continue };
-            let ghosts = &pd.case.ghosts;
-            s += block_sums(
-                0..a.len(),
-                || 0.0,
-                |i| a[i].dot(&b[i]) * ghosts.share(i),
-                |x, y| x + y,
-            )
-            .into_iter()
-            .fold(0.0, |x, y| x + y);
-        }
-        s + self.rigid_dot(other)
-    }
-
-    /// The free rigid bodies' part of a product.
-    fn rigid_dot(&self, other: &Dofs) -> f64 {
-        self.rigid
-            .iter()
-            .zip(&other.rigid)
-            .map(|(a, b)| a * b)
-            .fold(0.0, |x, y| x + y)
-    }
-
-    /// `self += alpha · other`.
-    pub fn axpy(&mut self, alpha: f64, other: &Dofs) {
-        for (a, b) in self.pd.iter_mut().zip(&other.pd) {
-            a.par_iter_mut()
-                .zip(b.par_iter())
-                .with_min_len(1024)
-                .for_each(|(a, b)| *a += b * alpha);
-        }
-        for (a, b) in self.rigid.iter_mut().zip(&other.rigid) {
-            *a += alpha * b;
-        }
-    }
-
-    /// `self = other + beta · self`.
-    pub fn xpby(&mut self, other: &Dofs, beta: f64) {
-        for (a, b) in self.pd.iter_mut().zip(&other.pd) {
-            a.par_iter_mut()
-                .zip(b.par_iter())
-                .with_min_len(1024)
-                .for_each(|(a, b)| *a = b + *a * beta);
-        }
-        for (a, b) in self.rigid.iter_mut().zip(&other.rigid) {
-            *a = b + beta * *a;
-        }
-    }
-
-    /// Every entry zero.
-    pub fn fill_zero(&mut self) {
-        for a in &mut self.pd {
-            a.iter_mut().for_each(|x| *x = Vec3::zeros());
-        }
-        self.rigid.iter_mut().for_each(|x| *x = 0.0);
-    }
-}
 
 /// Where a contact's reaction goes.
 #[derive(Clone, Copy, Debug)]
