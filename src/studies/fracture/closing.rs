@@ -51,10 +51,23 @@ pub fn block_precrack(dx: f64) -> String {
     )
 }
 
-/// The half block cut at 30° to the load, at spacing `dx`.
-pub fn inclined_scene(dx: f64) -> String {
-    let z = ((0.5 / dx).round() + 0.25) * dx;
+/// The height at x = 0 of the 30° cut at spacing `dx` (between particle rows there).
+pub fn inclined_height(dx: f64) -> f64 {
+    ((0.5 / dx).round() + 0.25) * dx
+}
+
+/// The half block cut at 30° to the load, at spacing `dx`; `cut = false`: the same block
+/// whole.
+pub fn inclined_scene(dx: f64, cut: bool) -> String {
+    let z = inclined_height(dx);
     let (s, c) = 30f64.to_radians().sin_cos();
+    let crack = if cut {
+        format!(
+            "[[precrack]]\nbody = \"block\"\npoint = [0, 0.25, {z}]\nnormal = [{s}, 0, {c}]\nalong = [0, 1, 0]\nsize = [2, 3]\n{SELF_CONTACT}"
+        )
+    } else {
+        String::new()
+    };
     format!(
         "[solver]\nkind = \"adr\"\ntolerance = 1e-6\nmax_iterations = 100000\n\
          [output]\nfolder = \".\"\nevery = 1000000\n\
@@ -66,9 +79,7 @@ pub fn inclined_scene(dx: f64) -> String {
          [[symmetry]]\nbody = \"block\"\naxis = \"z\"\n\
          [[constraint]]\nbody = \"block\"\nset = \"top\"\nfix = [\"x\"]\n\
          [[constraint]]\nbody = \"block\"\nset = \"bottom\"\nfix = [\"x\"]\n\
-         [[load]]\nbody = \"block\"\nset = \"top\"\nforce = [0, 0, {f:e}]\n\
-         [[precrack]]\nbody = \"block\"\npoint = [0, 0.25, {z}]\nnormal = [{s}, 0, {c}]\nalong = [0, 1, 0]\nsize = [2, 3]\n\
-         {SELF_CONTACT}",
+         [[load]]\nbody = \"block\"\nset = \"top\"\nforce = [0, 0, {f:e}]\n{crack}",
         f = -STRESS * 0.5,
     )
 }
@@ -79,6 +90,26 @@ pub fn top_displacement(pd: &PdBody) -> f64 {
         .filter(|&i| (pd.reference[i].z - 1.0).abs() < 1e-9)
         .collect();
     top.iter().map(|&i| pd.u[i].z).sum::<f64>() / top.len() as f64
+}
+
+/// The slide of the 30° cut: the mean displacement of its upper face's particles less the
+/// lower face's, along the cut's downhill direction in the x-z plane, over the faces away
+/// from the block's sides (|x|, y < 0.4 m), m.
+pub fn inclined_slide(pd: &PdBody) -> f64 {
+    let f = &pd.crack_faces[0];
+    let downhill = Vec3::new(f.normal.z, 0.0, -f.normal.x);
+    let mut sums = [(0.0, 0usize); 2];
+    for side in &f.particles {
+        for &i in side {
+            let x = pd.reference[i as usize];
+            if x.x.abs() < 0.4 && x.y < 0.4 {
+                let above = usize::from(f.normal.dot(&(x - f.point)) > 0.0);
+                sums[above].0 += pd.u[i as usize].dot(&downhill);
+                sums[above].1 += 1;
+            }
+        }
+    }
+    sums[1].0 / sums[1].1.max(1) as f64 - sums[0].0 / sums[0].1.max(1) as f64
 }
 
 /// The deepest penetration of one crack face into the other, m.
@@ -117,6 +148,12 @@ pub struct ClosingResult {
     pub inclined_angle_deg: f64,
     pub inclined_iterations: usize,
     pub inclined_seconds: f64,
+    /// The 30° cut: the top's mean displacement along z, m, cut and whole, and the slide
+    /// ([`inclined_slide`]), m.
+    pub inclined_particles: usize,
+    pub inclined_displacement: f64,
+    pub inclined_whole_displacement: f64,
+    pub inclined_slide: f64,
     pub folder: PathBuf,
 }
 
@@ -133,6 +170,7 @@ impl ClosingResult {
                 "contact pressure on the faces away from the free sides: mean {pm:.3}, {p0:.3}-{p1:.3} of the applied stress; force across each face {ff:.5} of the load\n",
                 "deepest penetration of one face into the other {dp:.2e} m ({dd:.1e} Δ); {fr} fragments\n",
                 "cut at 30° to the load, frictionless: normal force {nr:.4} of P / cos 30°, its direction {ang:.2}° from the crack's normal; {ni} iterations, {nw:.2} s\n",
+                "  top displacement {itop:.4} mm (whole {iwhole:.4} mm), the faces' slide along the cut {islide:.4} mm\n",
                 "frames in {dir}\n",
             ),
             dx = self.spacing,
@@ -155,13 +193,16 @@ impl ClosingResult {
             ang = self.inclined_angle_deg,
             ni = self.inclined_iterations,
             nw = self.inclined_seconds,
+            itop = self.inclined_displacement * 1e3,
+            iwhole = self.inclined_whole_displacement * 1e3,
+            islide = self.inclined_slide * 1e3,
             dir = self.folder.display(),
         )
     }
 }
 
-/// Runs the whole block, the cut one and the 30° cut at spacing `dx` into `folder`'s
-/// `whole`, `cut` and `inclined`.
+/// Runs the whole block, the cut one, the 30° cut and its block whole at spacing `dx` into
+/// `folder`'s `whole`, `cut`, `inclined` and `inclined_whole`.
 pub fn run_closing(dx: f64, folder: &Path, quiet: bool) -> Result<ClosingResult> {
     let (whole, s0, intact_seconds) =
         run_in(&block_scene(dx, 100_000, ""), &folder.join("whole"), quiet)?;
@@ -197,7 +238,12 @@ pub fn run_closing(dx: f64, folder: &Path, quiet: bool) -> Result<ClosingResult>
         .map_or(1, |f| f.fragments(&b.case.bonds).len());
 
     let (tilted, s2, inclined_seconds) =
-        run_in(&inclined_scene(dx), &folder.join("inclined"), quiet)?;
+        run_in(&inclined_scene(dx, true), &folder.join("inclined"), quiet)?;
+    let (tilted_whole, _, _) = run_in(
+        &inclined_scene(dx, false),
+        &folder.join("inclined_whole"),
+        quiet,
+    )?;
     let t = tilted.bodies[0].as_pd().expect("deformable");
     let n = t.crack_faces[0].normal;
     let f: Vec3 = t.crack_faces[0].particles[0]
@@ -222,6 +268,12 @@ pub fn run_closing(dx: f64, folder: &Path, quiet: bool) -> Result<ClosingResult>
         inclined_angle_deg: (f.dot(&n).abs() / f.norm()).min(1.0).acos().to_degrees(),
         inclined_iterations: s2.iterations,
         inclined_seconds,
+        inclined_particles: t.len(),
+        inclined_displacement: top_displacement(t),
+        inclined_whole_displacement: top_displacement(
+            tilted_whole.bodies[0].as_pd().expect("deformable"),
+        ),
+        inclined_slide: inclined_slide(t),
         folder: folder.to_path_buf(),
     })
 }
