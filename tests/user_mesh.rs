@@ -774,6 +774,14 @@ fn sphere_at_another_poissons_ratio() {
         assert!(f("mre") < 0.03, "{influence:?}: {row}");
         assert!(f("radius_error").abs() < 0.03, "{influence:?}: {row}");
         assert!(f("peak_error").abs() < 0.05, "{influence:?}: {row}");
+        let warned = |r: &serde_json::Value| {
+            r["warnings"]
+                .as_array()
+                .expect("warnings")
+                .iter()
+                .any(|w| w.as_str().is_some_and(|w| w.contains("is above 0.35")))
+        };
+        assert!(!warned(&report), "{report}");
         let scene = std::fs::read_to_string(dir.join("sphere-mesh/scene.toml")).expect("scene");
         assert!(scene.contains("poisson_ratio = 0.3") && scene.contains("model = \"lps\""));
         assert_eq!(
@@ -783,6 +791,24 @@ fn sphere_at_another_poissons_ratio() {
         );
         let _ = std::fs::remove_dir_all(&dir);
     }
+    // At ν = 0.4 the measured figures miss Hertz's bounds on every gmsh mesh so far: said,
+    // with which way they err (the coarse stored sphere, 1,308 particles, seconds).
+    let dir = temp_dir("poisson-high");
+    let report = validate_json(
+        &repo("meshes/sphere_tet4.msh"),
+        &["--refine", "0", "--poisson", "0.4"],
+        &dir,
+    );
+    let said: Vec<&str> = report["warnings"]
+        .as_array()
+        .expect("warnings")
+        .iter()
+        .filter_map(|w| w.as_str())
+        .filter(|w| w.contains("ν = 0.4 is above 0.35"))
+        .collect();
+    assert_eq!(said.len(), 1, "{report}");
+    assert!(said[0].contains("radius 2.5-4.8 % short"), "{}", said[0]);
+    let _ = std::fs::remove_dir_all(&dir);
     // The influence function is the LPS's: without --poisson it is refused.
     let out = validate(&[
         "--mesh",
