@@ -20,9 +20,14 @@ the block's sides (|x| < 0.4 m, y < 0.4 m).
     pdcontact fracture --case closing --json > closing.json     # [--spacing 0.025]
     python3 tools/fe_inclined_crack.py closing.json [more.json ...] [--n 20 30] [--workdir W]
 
-Needs ccx (apt-get install calculix-ccx) and numpy.
+The same on a gmsh mesh (tools/gmsh_inclined_block.py), from the runs' last frames:
+
+    python3 tools/fe_inclined_crack.py --frames CUT WHOLE [--z0 0.5125] [--n 20]
+
+Needs ccx (apt-get install calculix-ccx) and numpy; --frames also python3 vtk.
 """
 import argparse
+import glob
 import json
 import math
 import os
@@ -186,21 +191,62 @@ def pd_case(path):
             "iterations": d["inclined_iterations"], "seconds": d["inclined_seconds"]}
 
 
+def last_frame(folder):
+    import vtk
+    from vtk.util.numpy_support import vtk_to_numpy
+    frames = sorted(glob.glob(os.path.join(folder, "frame_*", "*_particles.vtu")))
+    if not frames:
+        raise SystemExit(f"{folder}: no frame_*/*_particles.vtu (`pdcontact run SCENE -o {folder}`)")
+    r = vtk.vtkXMLUnstructuredGridReader()
+    r.SetFileName(frames[-1])
+    r.Update()
+    g = r.GetOutput()
+    data = {"x": vtk_to_numpy(g.GetPoints().GetData()).astype(float)}
+    for name in ("displacement", "contact_force"):
+        data[name] = vtk_to_numpy(g.GetPointData().GetArray(name)).astype(float)
+    return data
+
+
+def pd_frames(cut, whole, z0):
+    """pdcontact's figures from the last frames of a run of the cut block and of the whole
+    one (`tools/gmsh_inclined_block.py`): the top's mean displacement along z, and the slide
+    between the particles on either side of the cut that carry a contact force (the faces'
+    particles in contact) away from the block's sides."""
+    c, w = last_frame(cut), last_frame(whole)
+    top = lambda d: float(d["displacement"][np.abs(d["x"][:, 2] - 1.0) < 1e-9, 2].mean())  # noqa: E731
+    side = (c["x"] - np.array([0.0, 0.0, z0])) @ np.array([math.sin(TILT), 0.0, math.cos(TILT)])
+    touching = (np.linalg.norm(c["contact_force"], axis=1) > 0) & interior(c["x"])
+    along = c["displacement"] @ ALONG
+    slide = along[touching & (side > 0)].mean() - along[touching & (side < 0)].mean()
+    return {"top": top(c), "whole": top(w), "slide": float(slide), "particles": len(c["x"]),
+            "spacing": None, "label": cut, "faces": int(touching.sum())}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("pd", nargs="+", help="what `pdcontact fracture --case closing --json` printed")
+    ap.add_argument("pd", nargs="*", help="what `pdcontact fracture --case closing --json` printed")
+    ap.add_argument("--frames", nargs=2, metavar=("CUT", "WHOLE"),
+                    help="instead: the output folders of `pdcontact run` on the scenes of "
+                         "tools/gmsh_inclined_block.py (the cut block, the whole one)")
+    ap.add_argument("--z0", type=float, default=0.5125, help="with --frames: the cut's height at x = 0")
     ap.add_argument("--n", type=int, nargs="+", default=[20, 40],
                     help="elements along x (half as many along y and along z in each part)")
     ap.add_argument("--penalty", type=float, default=1e13, help="contact penalty, Pa/m")
     ap.add_argument("--workdir", help="keep CalculiX's files here")
     args = ap.parse_args()
-    pds = [pd_case(p) for p in args.pd]
-    # The cut's height at x = 0, as the PD runs place it (between particle rows there).
-    z0s = {round((round(0.5 / p["spacing"]) + 0.25) * p["spacing"], 12) for p in pds}
-    if len(z0s) != 1:
-        raise SystemExit(f"the runs cut the block at different heights {sorted(z0s)}: "
-                         "compare runs whose spacing puts the cut at the same height")
-    z0 = z0s.pop()
+    if args.frames:
+        pds = [pd_frames(*args.frames, args.z0)]
+        z0 = args.z0
+    elif args.pd:
+        pds = [pd_case(p) for p in args.pd]
+        # The cut's height at x = 0, as the PD runs place it (between particle rows there).
+        z0s = {round((round(0.5 / p["spacing"]) + 0.25) * p["spacing"], 12) for p in pds}
+        if len(z0s) != 1:
+            raise SystemExit(f"the runs cut the block at different heights {sorted(z0s)}: "
+                             "compare runs whose spacing puts the cut at the same height")
+        z0 = z0s.pop()
+    else:
+        raise SystemExit("give the study's JSON or --frames CUT WHOLE")
     workdir = args.workdir or tempfile.mkdtemp(prefix="fe_inclined_")
     os.makedirs(workdir, exist_ok=True)
     rows = []
@@ -221,9 +267,12 @@ def main():
               f"{(fc['top'] - fw['top']) * mm:.4f} | {fc['slide'] * mm:.4f} | "
               f"{fw['seconds']:.1f} s + {fc['seconds']:.1f} s |")
     for p in pds:
-        print(f"| pdcontact, spacing {p['spacing']} m ({p['particles']} particles) | {p['whole'] * mm:.4f} | "
+        what = (f"spacing {p['spacing']} m" if p["spacing"] else
+                f"{p['label']}, {p['faces']} face particles in contact")
+        wall = f"{p['seconds']:.1f} s ({p['iterations']} ADR iterations, cut)" if "seconds" in p else ""
+        print(f"| pdcontact, {what} ({p['particles']} particles) | {p['whole'] * mm:.4f} | "
               f"{p['top'] * mm:.4f} | {(p['top'] - p['whole']) * mm:.4f} | {p['slide'] * mm:.4f} | "
-              f"{p['seconds']:.1f} s ({p['iterations']} ADR iterations, cut) |")
+              f"{wall} |")
     for n, fw, fc in rows:
         print(f"reactions at the bottom (n = {n}): whole {fw['reaction']:.6g} N, cut {fc['reaction']:.6g} N "
               f"(load {STRESS * 0.5:.6g} N)")
