@@ -13,9 +13,11 @@ mapped grid of 8-node hexahedra with incompatible modes (C3D8I, which do not loc
 bending the upper part takes), their nodes coincident on the cut; frictionless surface-to-
 surface penalty contact between them (CalculiX's default without *FRICTION); the same block
 whole (the parts' nodes merged) for the intact figures. Printed side by side with pdcontact:
-the top face's mean displacement along z, whole and cut, and the slide: the mean relative
-displacement of the two faces along the cut (in the x-z plane), over the faces away from
-the block's sides (|x| < 0.4 m, y < 0.4 m).
+the top face's mean displacement along z, whole and cut, and the slide: the jump of the
+displacement along the cut (in the x-z plane) across it, over the faces away from the
+block's sides (|x| < 0.4 m, y < 0.4 m): CalculiX's at the coincident node pairs of the two
+faces, pdcontact's from each side's particles within two spacings of the cut, fitted as a
+line in the distance from it and taken at the cut.
 
     pdcontact fracture --case closing --json > closing.json     # [--spacing 0.025]
     python3 tools/fe_inclined_crack.py closing.json [more.json ...] [--n 20 30] [--workdir W]
@@ -202,24 +204,36 @@ def last_frame(folder):
     r.Update()
     g = r.GetOutput()
     data = {"x": vtk_to_numpy(g.GetPoints().GetData()).astype(float)}
-    for name in ("displacement", "contact_force"):
+    for name in ("displacement", "volume"):
         data[name] = vtk_to_numpy(g.GetPointData().GetArray(name)).astype(float)
     return data
+
+
+def slide_at_cut(x, u, z0, spacing):
+    """The jump across the cut of the displacement along it, at the cut: on each side, over
+    the particles within two spacings of it away from the block's sides, the displacement
+    along the cut fitted as a line in the distance from it and taken at distance nil (as
+    pdcontact's `inclined_slide`)."""
+    d = (x - np.array([0.0, 0.0, z0])) @ np.array([math.sin(TILT), 0.0, math.cos(TILT)])
+    along = u @ ALONG
+    at = []
+    for sign in (1.0, -1.0):
+        m = interior(x) & (sign * d > 0) & (sign * d < 2.0 * spacing)
+        a = np.vstack([np.ones(m.sum()), d[m]]).T
+        at.append(np.linalg.lstsq(a, along[m], rcond=None)[0][0])
+    return float(at[0] - at[1])
 
 
 def pd_frames(cut, whole, z0):
     """pdcontact's figures from the last frames of a run of the cut block and of the whole
     one (`tools/gmsh_inclined_block.py`): the top's mean displacement along z, and the slide
-    between the particles on either side of the cut that carry a contact force (the faces'
-    particles in contact) away from the block's sides."""
+    at the cut; the spacing is the lattice spacing of the particles' median volume."""
     c, w = last_frame(cut), last_frame(whole)
     top = lambda d: float(d["displacement"][np.abs(d["x"][:, 2] - 1.0) < 1e-9, 2].mean())  # noqa: E731
-    side = (c["x"] - np.array([0.0, 0.0, z0])) @ np.array([math.sin(TILT), 0.0, math.cos(TILT)])
-    touching = (np.linalg.norm(c["contact_force"], axis=1) > 0) & interior(c["x"])
-    along = c["displacement"] @ ALONG
-    slide = along[touching & (side > 0)].mean() - along[touching & (side < 0)].mean()
-    return {"top": top(c), "whole": top(w), "slide": float(slide), "particles": len(c["x"]),
-            "spacing": None, "label": cut, "faces": int(touching.sum())}
+    spacing = float(np.median(c["volume"]) ** (1.0 / 3.0))
+    slide = slide_at_cut(c["x"], c["displacement"], z0, spacing)
+    return {"top": top(c), "whole": top(w), "slide": slide, "particles": len(c["x"]),
+            "spacing": None, "label": cut, "delta": spacing}
 
 
 def main():
@@ -268,7 +282,7 @@ def main():
               f"{fw['seconds']:.1f} s + {fc['seconds']:.1f} s |")
     for p in pds:
         what = (f"spacing {p['spacing']} m" if p["spacing"] else
-                f"{p['label']}, {p['faces']} face particles in contact")
+                f"{p['label']}, Δ = {p['delta']:.4f} m")
         wall = f"{p['seconds']:.1f} s ({p['iterations']} ADR iterations, cut)" if "seconds" in p else ""
         print(f"| pdcontact, {what} ({p['particles']} particles) | {p['whole'] * mm:.4f} | "
               f"{p['top'] * mm:.4f} | {(p['top'] - p['whole']) * mm:.4f} | {p['slide'] * mm:.4f} | "

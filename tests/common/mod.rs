@@ -152,3 +152,31 @@ pub fn run_text_in(
         },
     )
 }
+
+/// A path in the repository.
+pub fn repo(p: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
+}
+
+/// `pdcontact validate ARGS..`.
+pub fn validate(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+        .arg("validate")
+        .args(args)
+        .output()
+        .expect("pdcontact runs")
+}
+
+/// `validate --mesh MESH EXTRA.. --json --quiet -o DIR`, which must succeed: its JSON report.
+pub fn validate_json(mesh: &Path, extra: &[&str], dir: &Path) -> serde_json::Value {
+    let mut args = vec!["--mesh", mesh.to_str().expect("utf-8 path")];
+    args.extend_from_slice(extra);
+    args.extend(["--json", "--quiet", "-o", dir.to_str().expect("utf-8 path")]);
+    let out = validate(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON")
+}
