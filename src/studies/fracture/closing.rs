@@ -159,8 +159,8 @@ pub struct ClosingResult {
     pub inclined_angle_deg: f64,
     pub inclined_iterations: usize,
     pub inclined_seconds: f64,
-    /// The 30° cut: the top's mean displacement along z, m, cut and whole, and the slide
-    /// ([`inclined_slide`]), m.
+    /// The 30° cut: its particles, the top's mean displacement along z (m) cut and whole,
+    /// and the slide ([`inclined_slide`], m).
     pub inclined_particles: usize,
     pub inclined_displacement: f64,
     pub inclined_whole_displacement: f64,

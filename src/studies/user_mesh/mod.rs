@@ -197,7 +197,7 @@ fn high_poisson_warning(nu: f64, skin: bool) -> String {
         "without the skin correction the contact comes out wide on tets: at ν = 0.4 on gmsh-default tet4 spheres at a/Δ = 5.5-6, radius +3-4 % (`--influence position-aware`); with it, narrow (radius 2.5-4.8 % short)"
     };
     format!(
-        "ν = {nu} is above {HIGH_POISSON}, where the contact misses Hertz's bounds on meshes measured so far: {what}; finer meshes err less (docs/VALIDATION.md, \"Any Poisson's ratio\")"
+        "ν = {nu} is {HIGH_POISSON} or more, where the contact misses Hertz's bounds on meshes measured so far: {what}; finer meshes err less (docs/VALIDATION.md, \"Any Poisson's ratio\")"
     )
 }
 
