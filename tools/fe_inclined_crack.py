@@ -40,7 +40,7 @@ import tempfile
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fe_reference import ccx  # noqa: E402
+from fe_reference import ccx, deck  # noqa: E402
 
 E, NU, STRESS = 1e9, 0.25, 1e6
 TILT = math.radians(30.0)
@@ -108,10 +108,7 @@ def write_deck(path, n, z0, cut, penalty):
             w(f"{e + 1}, " + ", ".join(str(v + 1) for v in c) + "\n")
 
         def nset(name, ids):
-            w(f"*NSET, NSET={name}\n")
-            ids = sorted(set(int(i) + 1 for i in ids))
-            for k in range(0, len(ids), 12):
-                w(", ".join(str(v) for v in ids[k:k + 12]) + ",\n")
+            deck._nset(f, name, sorted(set(int(i) for i in ids)))
 
         nset("NSYMY", [i for i in used if abs(x[i, 1]) < tol])
         nset("NBOTTOM", [i for i in used if abs(x[i, 2]) < tol])
