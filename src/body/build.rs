@@ -449,10 +449,13 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
             };
             // A body that is its own contact master presses its pre-cracks' faces together:
             // the case is cut before the body is made, so that its corrections see the faces.
-            let self_contact = scene
-                .contacts
-                .iter()
-                .any(|c| c.slave == spec.name && c.master == spec.name);
+            // (Pressed on the surfaces found again instead, its pre-cracks break bonds as
+            // without contact, and the surface is found from the broken bonds.)
+            let self_contact = scene.contacts.iter().any(|c| {
+                c.slave == spec.name
+                    && c.master == spec.name
+                    && scene.self_faces(c) != Some(crate::scene::SelfFaces::Found)
+            });
             let cut = if self_contact && !patches.is_empty() {
                 Some(case.cut(&patches, method, skin).map_err(|(k, msg)| {
                     if msg == "cuts no bond" {

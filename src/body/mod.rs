@@ -12,6 +12,7 @@
 mod build;
 pub mod fracture;
 pub mod lps;
+pub mod new_faces;
 pub mod new_surface;
 pub mod stress;
 

@@ -4,7 +4,7 @@
 
 use rayon::prelude::*;
 
-use super::{ContactPass, MasterView};
+use super::{ContactPass, FoundFaces, MasterView};
 use crate::body::{Body, PdBody};
 use crate::case::neighbours::CellGrid;
 use crate::math::Vec3;
@@ -128,6 +128,11 @@ impl ContactPass {
                 }
                 out.sort_unstable();
                 out.dedup();
+                if self.found.is_some() {
+                    // Its own surface presses only where no intact bond holds it.
+                    let partners = FoundFaces::partners(sb, s);
+                    out.retain(|&seg| FoundFaces::apart(s, &segs[seg as usize].nodes, &partners));
+                }
                 if let Some(c) = &self.crack {
                     // A crack's face presses on the other face only.
                     out.retain(|&seg| {
@@ -138,7 +143,6 @@ impl ContactPass {
                 out
             })
             .collect();
-        let _ = segs;
         let slave_ref: Vec<Vec3> = self
             .slaves
             .iter()

@@ -1,10 +1,17 @@
-//! Contact between the two faces of a body's pre-crack (docs/FRACTURE.md, "Contact on new
-//! surfaces"; the faces themselves: [`crate::case::crack_faces`]): a pass of the body against
-//! itself whose slaves are the face particles of each side and whose segments are the other
-//! side's, every face particle moved onto the crack plane.
+//! A body against itself (docs/FRACTURE.md, "Contact on new surfaces"): the two faces of a
+//! pre-crack (the faces themselves: [`crate::case::crack_faces`]), a pass whose slaves are the
+//! face particles of each side and whose segments are the other side's, every face particle
+//! moved onto the crack plane; the pieces of a mesh that no bond joins; and the surfaces that
+//! broken bonds opened, found again ([`crate::body::new_faces`]), each slave against the
+//! segments whose corners no intact bond joins to it.
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
 
 use super::{ContactLaw, ContactPass};
-use crate::body::Body;
+use crate::body::new_faces::{NewFaces, REACH};
+use crate::body::{Body, PdBody};
 use crate::math::Vec3;
 
 /// How far beyond the other face's edge a crack's face particle still presses on it, in
@@ -23,7 +30,117 @@ pub(super) struct CrackSides {
     pub(super) edge_margin: bool,
 }
 
+/// A body against the surfaces its broken bonds opened ([`ContactPass::found_faces`]).
+#[derive(Clone, Debug)]
+pub(super) struct FoundFaces {
+    /// The body's segments as built; those from here on are the new faces'.
+    pub(super) built: usize,
+    /// Bonds broken when the faces were made, and the model's evaluation then.
+    pub(super) broken: usize,
+    pub(super) at: usize,
+    /// Per particle of the body, its outward normal where it is a slave.
+    pub(super) normal: Arc<Vec<Vec3>>,
+    /// Per particle of the body, the offset that moves it as a slave onto the face across
+    /// its crack ([`onto_faces`]); master nodes stand where they are.
+    pub(super) onto: Vec<Vec3>,
+}
+
+impl FoundFaces {
+    /// Whether slave `s` may press on a segment with corners `nodes`: none of them is `s`
+    /// or still bonded to it (`partners`: `s`'s intact bonds' partners, sorted).
+    pub(super) fn apart(s: u32, nodes: &[u32; 4], partners: &[u32]) -> bool {
+        nodes
+            .iter()
+            .all(|&n| n != s && partners.binary_search(&n).is_err())
+    }
+
+    /// The gap of slave `s` to segment `seg` at the projection `pr`'s weights in the
+    /// reference configuration, the slave's point and the master's nodes moved as the pass
+    /// moves them (`master`: the nodes' offsets).
+    pub(super) fn reference_gap(
+        &self,
+        sb: &PdBody,
+        s: u32,
+        seg: &crate::case::segments::MasterSegment,
+        master: &[Vec3],
+        pr: &super::Projection,
+    ) -> f64 {
+        let x = &sb.reference;
+        let at: Vec3 = (0..4)
+            .map(|k| {
+                let n = seg.nodes[k] as usize;
+                (x[n] + master.get(n).copied().unwrap_or_default()) * pr.weights[k]
+            })
+            .sum();
+        (x[s as usize] + self.onto[s as usize] - at).dot(&pr.normal)
+    }
+
+    /// The partners of `s`'s intact bonds, sorted.
+    pub(super) fn partners(sb: &PdBody, s: u32) -> Vec<u32> {
+        let intact = sb.fracture.as_ref().map(|f| &f.intact);
+        let bonds = &sb.case.bonds;
+        let mut out: Vec<u32> = bonds
+            .range(s as usize)
+            .filter(|&b| intact.is_none_or(|f| f[b]))
+            .map(|b| bonds.partner[b])
+            .collect();
+        out.sort_unstable();
+        out
+    }
+}
+
 impl ContactPass {
+    /// The pass of a body against the surfaces its broken bonds opened
+    /// ([`crate::body::new_faces`]): every particle on its surface, as built or found again,
+    /// is a slave against every segment (the mesh's and `faces`'), with the weight of a
+    /// two-pass pair, and presses only on segments whose corners no intact bond joins to it;
+    /// each slave on a new face stands moved onto the face across the crack (see `onto_faces`).
+    /// The body's segments must be those as built (`built` of them) followed by `faces`'.
+    pub fn found_faces(
+        bodies: &[Body],
+        body: usize,
+        faces: &NewFaces,
+        built: usize,
+        law: ContactLaw,
+        at: usize,
+    ) -> ContactPass {
+        let pd = bodies[body].as_pd().expect("a breaking body is deformable");
+        debug_assert_eq!(pd.segments().len(), built + faces.segments.len());
+        let mut pass = ContactPass::new_with(
+            bodies,
+            body,
+            body,
+            law,
+            0.5,
+            faces.particles.clone(),
+            |_| true,
+        );
+        let (master, slave) = onto_faces(pd, faces, built);
+        pass.reference_normals =
+            super::normal::reference_normals(super::MasterView::Shifted(pd, &master));
+        pass.shift = Arc::new(master);
+        pass.found = Some(FoundFaces {
+            onto: slave,
+            built,
+            broken: pd.fracture.as_ref().map_or(0, |f| f.broken),
+            at,
+            normal: Arc::new(faces.normal.clone()),
+        });
+        pass
+    }
+
+    /// Whether this pass presses a body on the surfaces its broken bonds opened
+    /// ([`ContactPass::found_faces`]).
+    pub fn is_found_faces(&self) -> bool {
+        self.found.is_some()
+    }
+
+    /// For [`ContactPass::found_faces`]: the body's segments as built, the bonds broken when
+    /// the faces were made, and the model's evaluation then.
+    pub fn found_faces_made(&self) -> Option<(usize, usize, usize)> {
+        self.found.as_ref().map(|f| (f.built, f.broken, f.at))
+    }
+
     /// The pass that presses the two faces of a body's pre-crack together
     /// ([`crate::case::crack_faces`]): the face particles of each side are slaves against the
     /// other side's segments, with the weight of a two-pass pair, and every face particle,
@@ -102,3 +219,112 @@ impl ContactPass {
         self.crack.as_ref().is_some_and(|c| !c.edge_margin)
     }
 }
+
+/// Where the faces that broken bonds opened stand, in the reference configuration: per
+/// particle of the body, the offset of its point as a master node (`.0`) and as a slave
+/// (`.1`); zero off the new faces.
+///
+/// A crack's faces are as rough as the particles beside it: on a lattice a flat row, on an
+/// unstructured mesh particles at depths up to a spacing or so apart. Each face particle's
+/// point is moved along its normal onto the plane through its face's particles about it
+/// (those still bonded to it within [`REACH`] spacings, their normals within 60° of its own,
+/// and itself: the least-squares plane, through their centroid, normal to the direction they
+/// spread least in), so the faces are smooth at the scale of the spacing. And each particle stands for a cell about it, so the two faces of a crack,
+/// their particles a row or so apart, touch where the body was whole: a slave's point is
+/// moved further, onto the face across (the nearest segment of a new face it projects into
+/// within [`ONTO_REACH`] spacings in front of it, facing it, none of its corners bonded to
+/// it, its corners smoothed), so that it touches that face with no gap and no overlap
+/// before the load.
+fn onto_faces(pd: &PdBody, faces: &NewFaces, built: usize) -> (Vec<Vec3>, Vec<Vec3>) {
+    let n = pd.len();
+    let spacing = pd.spacing();
+    let x = &pd.reference;
+    let intact = pd.fracture.as_ref().map(|f| &f.intact);
+    let mut on_face = vec![false; n];
+    for &i in &faces.new {
+        on_face[i as usize] = true;
+    }
+    let reach = REACH * spacing;
+    let smoothed: Vec<(u32, Vec3)> = faces
+        .new
+        .par_iter()
+        .map(|&i| {
+            let (xi, ni) = (x[i as usize], faces.normal[i as usize]);
+            let mut near = vec![Vec3::zeros()];
+            for b in pd.case.bonds.range(i as usize) {
+                let j = pd.case.bonds.partner[b] as usize;
+                if j < n
+                    && on_face[j]
+                    && intact.is_none_or(|f| f[b])
+                    && faces.normal[j].dot(&ni) >= 0.5
+                    && (x[j] - xi).norm() <= reach
+                {
+                    near.push(x[j] - xi);
+                }
+            }
+            if near.len() < 4 {
+                return (i, Vec3::zeros());
+            }
+            // The least-squares plane through them: their centroid, and the direction in
+            // which they spread least.
+            let c: Vec3 = near.iter().sum::<Vec3>() / near.len() as f64;
+            let cov: nalgebra::Matrix3<f64> =
+                near.iter().map(|d| (d - c) * (d - c).transpose()).sum();
+            let eigen = nalgebra::SymmetricEigen::new(cov);
+            let k = eigen.eigenvalues.imin();
+            let m = eigen.eigenvectors.column(k).into_owned();
+            let m = if m.dot(&ni) < 0.0 { -m } else { m };
+            if m.dot(&ni) < 0.5 {
+                return (i, Vec3::zeros());
+            }
+            (i, m * c.dot(&m))
+        })
+        .collect();
+    let mut master = vec![Vec3::zeros(); n];
+    for (i, m) in smoothed {
+        master[i as usize] = m;
+    }
+    let at = |i: u32| x[i as usize] + master[i as usize];
+    let segments = &pd.segments()[built..];
+    let centres: Vec<Vec3> = segments
+        .iter()
+        .map(|s| (at(s.nodes[0]) + at(s.nodes[1]) + at(s.nodes[2])) / 3.0)
+        .collect();
+    let reach = ONTO_REACH * spacing;
+    let grid = crate::case::neighbours::CellGrid::new(&centres, reach);
+    let moved: Vec<(u32, Vec3)> = faces
+        .new
+        .par_iter()
+        .filter_map(|&s| {
+            let (p, ns) = (at(s), faces.normal[s as usize]);
+            let partners = FoundFaces::partners(pd, s);
+            let mut best: Option<(f64, Vec3)> = None;
+            grid.for_each_candidate(&p, reach, |k| {
+                let seg = &segments[k as usize];
+                if seg.normal.dot(&ns) > -0.5 || !FoundFaces::apart(s, &seg.nodes, &partners) {
+                    return;
+                }
+                // At a face's edge, a little beyond its last segment (as a pre-crack's).
+                let Some((pr, outside)) = super::project_any(p, seg.nodes.map(at), true) else {
+                    return;
+                };
+                if outside <= CRACK_EDGE_MARGIN * spacing
+                    && pr.gap >= 0.0
+                    && pr.gap <= reach
+                    && best.is_none_or(|b| pr.gap < b.0)
+                {
+                    best = Some((pr.gap, -pr.normal * pr.gap));
+                }
+            });
+            best.map(|b| (s, b.1))
+        })
+        .collect();
+    let mut slave = master.clone();
+    for (s, m) in moved {
+        slave[s as usize] += m;
+    }
+    (master, slave)
+}
+
+/// How far in front of a face particle the face across a crack may stand, in spacings.
+const ONTO_REACH: f64 = 2.0;

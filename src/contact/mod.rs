@@ -45,8 +45,8 @@ mod sums;
 use rayon::prelude::*;
 
 pub use broad::{TopTwo, VerletList};
-use crack::CrackSides;
 pub use crack::CRACK_EDGE_MARGIN;
+use crack::{CrackSides, FoundFaces};
 pub use law::{default_radius, hertz_stiffness, ContactLaw};
 pub use narrow::{
     project, project_any, project_on_plane_edge, select_across_edge, select_segment, slave_normal,
@@ -244,6 +244,8 @@ pub struct ContactPass {
     /// Per particle of the body, for the faces of a pre-crack: the offset that moves a face
     /// particle onto the crack plane (empty otherwise).
     shift: std::sync::Arc<Vec<Vec3>>,
+    /// For a body against the surfaces its broken bonds opened ([`ContactPass::found_faces`]).
+    found: Option<FoundFaces>,
 }
 
 /// A slave behind a segment by more than the window: the slave, the segment, the gap
@@ -373,6 +375,7 @@ impl ContactPass {
             friction_work: Vec::new(),
             crack: None,
             shift: Default::default(),
+            found: None,
         }
     }
 
@@ -388,6 +391,9 @@ impl ContactPass {
     /// shifted onto the crack plane).
     #[inline]
     fn slave_point(&self, sb: &PdBody, s: u32) -> Vec3 {
+        if let Some(f) = &self.found {
+            return sb.position(s as usize) + f.onto[s as usize];
+        }
         sb.position(s as usize) + self.shift.get(s as usize).copied().unwrap_or_default()
     }
 
@@ -443,7 +449,7 @@ impl ContactPass {
         let planes = shared_planes(sb, view);
         // A slave's projection on a segment: on the plane's edge of the segment where the
         // slave lies on a symmetry plane the master shares ([`project_on_plane_edge`]).
-        let project_on = |s: u32, p: Vec3, seg: u32| {
+        let project_plain = |s: u32, p: Vec3, seg: u32| {
             let x = view.corners(seg as usize);
             let segment = &segs[seg as usize];
             if let Some(mb) = view.pd() {
@@ -466,6 +472,19 @@ impl ContactPass {
                 }
             }
             project_any(p, x, segment.is_triangle())
+        };
+        let project_on = |s: u32, p: Vec3, seg: u32| {
+            let found = project_plain(s, p, seg);
+            match &self.found {
+                // On the faces broken bonds opened, a slave that stood behind the segment
+                // before the load (where the faces' particles were rough) starts there.
+                Some(f) => found.map(|(mut pr, outside)| {
+                    let start = f.reference_gap(sb, s, &segs[seg as usize], &self.shift, &pr);
+                    pr.gap -= start.min(0.0);
+                    (pr, outside)
+                }),
+                None => found,
+            }
         };
         let contact = |k: usize, s: u32, segment: u32, mut pr: Projection| {
             pr.normal = self.smooth_normal(view, segment, &pr);
@@ -528,7 +547,15 @@ impl ContactPass {
                 projections.extend(self.verlet.candidates[a..b].iter().filter_map(|&seg| {
                     project_on(s, p, seg).map(|(pr, outside)| (seg, pr, outside))
                 }));
-                let normal = std::cell::LazyCell::new(|| slave_normal(sb, s as usize));
+                let normal = std::cell::LazyCell::new(|| match &self.found {
+                    Some(f) => narrow::turned_normal(
+                        sb,
+                        s as usize,
+                        f.normal[s as usize],
+                        sb.fracture.as_ref().map(|f| f.intact.as_slice()),
+                    ),
+                    None => slave_normal(sb, s as usize),
+                });
                 // A crack's face particle at the face's edge lies on the other face's edge;
                 // the faces' lateral strains differ by a hair, and it would drop off that edge
                 // and back in by turns: within a margin it stays on the segment it is nearest.
@@ -539,6 +566,10 @@ impl ContactPass {
                     .map(|&(seg, pr, _)| (seg, pr));
                 match select_segment(inside, || *normal, window) {
                     Touch::Contact(seg, pr) => contact(k, s, seg, pr),
+                    // Among the pieces of a breaking body a particle behind a face it lost
+                    // its bonds to is as often on a sliver's far side, or in crushed
+                    // material, as through the face: not taken for a missed contact.
+                    Touch::Missed(..) if self.found.is_some() => (None, None),
                     Touch::Missed(seg, gap) => (None, Some((s, seg, gap))),
                     Touch::Clear => match select_across_edge(
                         p,

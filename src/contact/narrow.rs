@@ -28,7 +28,13 @@ pub const EDGE_FACING: f64 = 0.5;
 /// itself, which barely moves a normal that nearly opposes the offset); unchanged when the
 /// body does not turn.
 pub fn slave_normal(body: &PdBody, i: usize) -> Vec3 {
-    let n_ref = body.case.surface.normal[i];
+    turned_normal(body, i, body.case.surface.normal[i], None)
+}
+
+/// [`slave_normal`] from the reference normal `n_ref`, turned over the bonds `intact` keeps
+/// (all where `None`): a particle of a face a crack opened turns with the particles still
+/// bonded to it, not with the other face's.
+pub fn turned_normal(body: &PdBody, i: usize, n_ref: Vec3, intact: Option<&[bool]>) -> Vec3 {
     if body.kinematics == Kinematics::Small {
         return n_ref;
     }
@@ -37,7 +43,7 @@ pub fn slave_normal(body: &PdBody, i: usize) -> Vec3 {
     let (mut c0, mut c) = (Vec3::zeros(), Vec3::zeros());
     for b in body.case.bonds.range(i) {
         let j = body.case.bonds.partner[b] as usize;
-        if j < n {
+        if j < n && intact.is_none_or(|f| f[b]) {
             c0 += body.reference[j] - x_i;
             c += body.position(j) - y_i;
         }

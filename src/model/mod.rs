@@ -4,6 +4,7 @@
 //! with the surface and volume corrections), applied loads, and contact forces.
 
 pub mod domain;
+mod found;
 pub mod path;
 
 use std::sync::Arc;
@@ -11,6 +12,8 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use self::domain::Domain;
+use self::found::found_faces_pass;
+pub use self::found::FOUND_FACES_EVERY;
 use self::path::{LoadPath, Prescribed, RampedLoad};
 
 use crate::body::lps::Stretch;
@@ -23,7 +26,7 @@ use crate::contact::{default_radius, hertz_stiffness, ContactLaw, ContactPass, W
 use crate::error::Result;
 use crate::math::{Vec3, NOT_A_PARTICLE};
 use crate::parallel::Comm;
-use crate::scene::{excerpt, Axis, BodyKind, ContactMethod, Kinematics, Scene};
+use crate::scene::{excerpt, Axis, BodyKind, ContactMethod, Kinematics, Scene, SelfFaces};
 
 /// Bodies and contact passes of a scene.
 #[derive(Clone, Debug)]
@@ -185,6 +188,26 @@ impl Model {
                     }
                 }
             }
+            if s == m && scene.self_faces(c) == Some(SelfFaces::Found) {
+                // The surfaces its broken bonds open ([`ContactPass::found_faces`]), flat
+                // where they meet as a crack's faces do.
+                let pd = bodies[s].as_pd().expect("checked deformable");
+                let window = WINDOW * pd.spacing();
+                let law = match c.radius {
+                    Some(radius) => {
+                        let m_body = pd.material.compliance();
+                        ContactLaw {
+                            law: c.penalty,
+                            stiffness: hertz_stiffness(m_body, m_body, radius),
+                            window,
+                        }
+                    }
+                    None => crack_face_law(pd, window),
+                };
+                let built = pd.segments().len();
+                passes.push(found_faces_pass(&mut bodies, s, built, law, 0));
+                continue;
+            }
             if s == m {
                 // The faces of the body's pre-cracks ([`ContactPass::crack`]).
                 let pd = bodies[s].as_pd().expect("checked deformable");
@@ -316,6 +339,12 @@ impl Model {
         if let Some(p) = self.passes.iter().find(|p| p.is_pieces()) {
             return Err(crate::error::Error::input(format!(
                 "contact between the pieces of \"{}\" (solids of its mesh that no bond joins) runs in one process for now: run the scene without mpirun",
+                self.bodies[p.slave].name()
+            )));
+        }
+        if let Some(p) = self.passes.iter().find(|p| p.is_found_faces()) {
+            return Err(crate::error::Error::input(format!(
+                "contact of \"{}\" with the surfaces its broken bonds open runs in one process for now: run the scene without mpirun",
                 self.bodies[p.slave].name()
             )));
         }
@@ -509,6 +538,7 @@ impl Model {
                 }
             }
         }
+        self.refresh_found_faces();
         match &self.domain {
             Some(d) => {
                 let rebuild = d.rebuilds(&self.bodies, &self.passes);

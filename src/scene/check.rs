@@ -385,6 +385,8 @@ impl Scene {
                     Error::input(format!("{}:{l}:{c}: {msg}", self.source))
                 };
                 self.check_self_contact(c, &in_block)?;
+            } else {
+                Self::check_two_body_faces(c, &err)?;
             }
             if s.kind == BodyKind::Rigid {
                 return Err(err(

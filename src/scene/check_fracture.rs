@@ -1,7 +1,7 @@
 //! The scene checks of bond failure: the fracture keys of a material and the pre-cracks
 //! (METHOD.md §9, [`crate::body::fracture`]).
 
-use super::{excerpt, num, BodyKind, BodySpec, MaterialSpec, Result, Scene};
+use super::{excerpt, num, BodyKind, BodySpec, MaterialSpec, Result, Scene, SelfFaces};
 use crate::error::Error;
 use crate::math::Vec3;
 
@@ -106,6 +106,52 @@ impl Scene {
 }
 
 impl Scene {
+    /// Whether the bonds of body `name` fail (its material has a fracture energy or a
+    /// critical stretch).
+    pub fn breaks(&self, name: &str) -> bool {
+        self.bodies
+            .iter()
+            .find(|b| b.name == name)
+            .and_then(|b| b.material.as_ref())
+            .is_some_and(|m| m.fracture_energy.is_some() || m.critical_stretch.is_some())
+    }
+
+    /// A pair of two bodies has no `faces` to choose.
+    pub(super) fn check_two_body_faces(
+        c: &super::ContactSpec,
+        err: &dyn Fn(&str, String) -> Error,
+    ) -> Result<()> {
+        match c.faces {
+            Some(f) => Err(err(
+                "faces",
+                format!(
+                    "faces = \"{}\" is for a body that is its own master (slave = master): this pair has two bodies (leave faces out)",
+                    f.name()
+                ),
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// Which faces the point-to-surface pair `c` of a body with itself presses on: its
+    /// `faces`, or by default its pre-cracks' where it has one, the surfaces its broken bonds
+    /// open where they fail; `None` for a pair of two bodies, the short-range method, or a
+    /// body that neither (its mesh's pieces against each other).
+    pub fn self_faces(&self, c: &super::ContactSpec) -> Option<SelfFaces> {
+        if c.slave != c.master || c.method == super::ContactMethod::ShortRange {
+            return None;
+        }
+        c.faces.or_else(|| {
+            if self.precracks.iter().any(|p| p.body == c.slave) {
+                Some(SelfFaces::Precrack)
+            } else if self.breaks(&c.slave) {
+                Some(SelfFaces::Found)
+            } else {
+                None
+            }
+        })
+    }
+
     /// A `[[contact]]` whose slave and master are one body: with the short-range method the
     /// pieces of a body whose bonds fail ([`crate::contact::fragments`]); otherwise the faces
     /// of that body's pre-cracks pressed together ([`crate::case::crack_faces`]), or without
@@ -117,14 +163,19 @@ impl Scene {
         err: &dyn Fn(&str, String) -> Error,
     ) -> Result<()> {
         let slave = format!("slave = \"{}\"", c.slave);
+        let breaks = self.breaks(&c.slave);
+        let precracked = self.precracks.iter().any(|p| p.body == c.slave);
         if c.method == super::ContactMethod::ShortRange {
-            let breaks = self
-                .bodies
-                .iter()
-                .find(|b| b.name == c.slave)
-                .and_then(|b| b.material.as_ref())
-                .is_some_and(|m| m.fracture_energy.is_some() || m.critical_stretch.is_some());
-            if breaks || self.precracks.iter().any(|p| p.body == c.slave) {
+            if let Some(f) = c.faces {
+                return Err(err(
+                    "faces",
+                    format!(
+                        "faces = \"{}\" chooses the point-to-surface method's master segments; the short-range method has none (leave faces out)",
+                        f.name()
+                    ),
+                ));
+            }
+            if breaks || precracked {
                 return Ok(());
             }
             return Err(err(
@@ -144,7 +195,16 @@ impl Scene {
             .iter()
             .find(|b| b.name == c.slave)
             .is_some_and(|b| b.mesh.is_none());
-        if generated && !self.precracks.iter().any(|p| p.body == c.slave) {
+        if c.faces == Some(SelfFaces::Precrack) && !precracked {
+            return Err(err(
+                "faces",
+                format!(
+                    "faces = \"precrack\" presses the faces of \"{}\"'s pre-cracks together, and it has no [[precrack]] (faces = \"found\" presses on the surfaces its broken bonds open)",
+                    excerpt(&c.slave)
+                ),
+            ));
+        }
+        if generated && !precracked && !breaks && c.faces.is_none() {
             return Err(err(
                 &slave,
                 format!(

@@ -514,6 +514,31 @@ pub struct ContactSpec {
     /// [`crate::contact::friction`]).
     #[serde(default)]
     pub friction: f64,
+    /// A body that is its own master ([`Scene::self_faces`]): "precrack" (the faces of its
+    /// pre-cracks, triangulated on their planes) or "found" (the surfaces its broken bonds
+    /// open, found again as they open: [`crate::body::new_faces`]).
+    pub faces: Option<SelfFaces>,
+}
+
+/// Which faces a body that is its own contact master presses on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SelfFaces {
+    /// The faces of its `[[precrack]]`s, each triangulated on the crack's plane
+    /// ([`crate::case::crack_faces`]).
+    Precrack,
+    /// The surfaces its broken bonds open (its pre-cracks' among them), found again as they
+    /// open ([`crate::body::new_surface`], [`crate::body::new_faces`]).
+    Found,
+}
+
+impl SelfFaces {
+    pub fn name(self) -> &'static str {
+        match self {
+            SelfFaces::Precrack => "precrack",
+            SelfFaces::Found => "found",
+        }
+    }
 }
 
 /// How a contact pair is resolved.

@@ -1,0 +1,310 @@
+//! Master segments on the surface that broken bonds opened (docs/FRACTURE.md, "Contact on new
+//! surfaces"): the faces of a crack that runs, or of a pre-crack cut as bonds, which no mesh
+//! face marks.
+//!
+//! The surface found again ([`crate::body::new_surface`], paper Eqs. 11-16 over the intact
+//! bonds) gives particles and their normals, not faces. Each of its particles `i` is
+//! triangulated with its neighbours on the same face, the *umbrella* of point-cloud surface
+//! reconstruction:
+//!
+//! - **The crack's edge.** Where a crack meets the surface as built, the particles of its
+//!   edge are on both: those of the surface as built that the test of Eq. 15 flags over their
+//!   intact bonds, not under another such particle or one of the new surface (the occlusion
+//!   test of the build: within `2 s_i`, in the 45° cone about the normal, facing the same
+//!   way), face between the two (Eq. 16 over their intact bonds), as a pre-crack's edge does.
+//! - **The face's neighbours.** The particles still bonded to `i` (a crack's other face has
+//!   lost its bonds to it) within [`REACH`] spacings, on the new surface or on the surface
+//!   as built (so that a crack's face reaches the body's sides), whose normal lies within 60°
+//!   of `i`'s: the face's particles about it.
+//! - **Its triangles.** They are projected on `i`'s tangent plane and triangulated there
+//!   (Delaunay); the triangles with `i` as a corner, none of their edges longer than
+//!   [`LONGEST_EDGE`] spacings (the pre-crack's rule), wound outward along `i`'s normal, are
+//!   its segments. A triangle found from several of its corners is kept once.
+//!
+//! Where the faces are flat the umbrellas tile them as a triangulation of the plane would
+//! (on a lattice, the two triangles of each square); where a crack turns, the umbrellas of
+//! the two sides of the turn overlap, as the narrow phase allows: a slave takes the segment
+//! nearest to it among those it projects into.
+//!
+//! Every quantity is of the reference configuration and the intact bonds, read in particle
+//! order: the same segments on any thread count.
+
+use rayon::prelude::*;
+
+use crate::body::new_surface::Found;
+use crate::body::PdBody;
+use crate::case::crack_faces::LONGEST_EDGE;
+use crate::case::segments::{quad_area_normal, MasterSegment};
+use crate::case::surface::{OCCLUSION_RADIUS, SURFACE_LAMBDA};
+use crate::math::Vec3;
+
+/// How far a face's neighbours of a particle reach, in spacings.
+pub const REACH: f64 = 2.0;
+
+/// cos 60°: the neighbours' normals within 60° of the particle's (a crack's edge particle
+/// faces 45° from its face).
+const SAME_FACE_COS: f64 = 0.5;
+
+/// The 45° cone of the occlusion test, as the surface found again's.
+const OCCLUSION_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+/// The particles that meet a breaking body's own surfaces, and the segments of the faces
+/// broken bonds opened.
+#[derive(Clone, Debug, Default)]
+pub struct NewFaces {
+    /// Per particle of the body: its outward normal where it is on a surface (as built, or
+    /// found again), zero elsewhere.
+    pub normal: Vec<Vec3>,
+    /// The particles on a surface, in order.
+    pub particles: Vec<u32>,
+    /// Those of them on a new face (the surface found again, and a crack's edge), in order.
+    pub new: Vec<u32>,
+    /// The segments of the new faces, corners wound outward.
+    pub segments: Vec<MasterSegment>,
+}
+
+/// The faces of `pd`'s surface that `found` holds (up to date; `None`: no bond broken), and
+/// its surface particles.
+pub fn new_faces(pd: &PdBody, found: Option<&Found>) -> NewFaces {
+    let n = pd.len();
+    let spacing = pd.spacing();
+    let surface = &pd.case.surface;
+    let x = &pd.reference;
+    let intact = pd.fracture.as_ref().map(|f| &f.intact);
+    let mut normal = vec![Vec3::zeros(); n];
+    for i in 0..n {
+        if surface.is_surface[i] {
+            normal[i] = surface.normal[i];
+        } else if let Some(f) = found.filter(|f| f.is_new[i]) {
+            normal[i] = f.normal[i];
+        }
+    }
+    // Where a crack meets the surface as built, the particles of its edge are on both: they
+    // face between the two (Eq. 16 over their intact bonds), as a pre-crack's edge does.
+    let edge = crack_edge(pd, found);
+    for &i in &edge {
+        normal[i as usize] = found.expect("an edge is found").normal[i as usize];
+    }
+    let on_face =
+        |i: usize| found.is_some_and(|f| f.is_new[i]) || edge.binary_search(&(i as u32)).is_ok();
+    let particles: Vec<u32> = (0..n as u32)
+        .filter(|&i| normal[i as usize] != Vec3::zeros())
+        .collect();
+    let new: Vec<u32> = particles
+        .iter()
+        .copied()
+        .filter(|&i| on_face(i as usize))
+        .collect();
+    let reach = REACH * spacing;
+    // The face's neighbours of a particle: still bonded to it, near, facing its way.
+    let neighbours = |i: usize| -> Vec<u32> {
+        let ni = normal[i];
+        pd.case
+            .bonds
+            .range(i)
+            .filter_map(|b| {
+                let j = pd.case.bonds.partner[b] as usize;
+                (j < n
+                    && intact.is_none_or(|f| f[b])
+                    && normal[j].dot(&ni) >= SAME_FACE_COS
+                    && (x[j] - x[i]).norm() <= reach)
+                    .then_some(j as u32)
+            })
+            .collect()
+    };
+    // The faces, each a patch of new-face particles joined by their neighbours.
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn root(parent: &mut [u32], mut i: u32) -> u32 {
+        while parent[i as usize] != i {
+            parent[i as usize] = parent[parent[i as usize] as usize];
+            i = parent[i as usize];
+        }
+        i
+    }
+    for &i in &new {
+        for j in neighbours(i as usize) {
+            if on_face(j as usize) {
+                let (a, b) = (root(&mut parent, i), root(&mut parent, j));
+                parent[a.max(b) as usize] = a.min(b);
+            }
+        }
+    }
+    let mut patches: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+    for &i in &new {
+        let r = root(&mut parent, i);
+        patches.entry(r).or_default().push(i);
+    }
+    let longest = LONGEST_EDGE * spacing;
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    for members in patches.values() {
+        match patch_plane(members, &normal, x) {
+            // A face that is a graph over its plane: triangulated there as a whole, as a
+            // pre-crack's faces are, one surface without overlaps.
+            Some(m) => triangles.extend(planar(members, m, x, longest)),
+            // One that turns too far: each particle's umbrella.
+            None => triangles.extend(members.iter().flat_map(|&i| {
+                let mut face = vec![i];
+                face.extend(neighbours(i as usize));
+                umbrella(&face, normal[i as usize], x, longest)
+            })),
+        }
+    }
+    // Each once, wound as the first umbrella that found it (in particle order).
+    let mut keyed: Vec<([u32; 3], usize)> = triangles
+        .iter()
+        .enumerate()
+        .map(|(k, t)| {
+            let mut key = *t;
+            key.sort_unstable();
+            (key, k)
+        })
+        .collect();
+    keyed.sort_unstable();
+    keyed.dedup_by_key(|e| e.0);
+    keyed.sort_unstable_by_key(|e| e.1);
+    let kept: Vec<usize> = keyed.iter().map(|e| e.1).collect();
+    triangles = kept.iter().map(|&k| triangles[k]).collect();
+    let segments = triangles
+        .into_iter()
+        .filter_map(|t| {
+            let nodes = [t[0], t[1], t[2], t[2]];
+            let (area, normal) = quad_area_normal(nodes.map(|p| x[p as usize]));
+            (area > 0.0).then_some(MasterSegment {
+                nodes,
+                area,
+                normal,
+            })
+        })
+        .collect();
+    NewFaces {
+        normal,
+        particles,
+        new,
+        segments,
+    }
+}
+
+/// The normal of the least-squares plane through a face's particles, turned along their
+/// normals; `None` where one of their normals lies more than 60° from it (the face turns too
+/// far to be triangulated on one plane) or they are too few.
+fn patch_plane(members: &[u32], normal: &[Vec3], x: &[Vec3]) -> Option<Vec3> {
+    if members.len() < 3 {
+        return None;
+    }
+    let c: Vec3 = members.iter().map(|&i| x[i as usize]).sum::<Vec3>() / members.len() as f64;
+    let cov: nalgebra::Matrix3<f64> = members
+        .iter()
+        .map(|&i| (x[i as usize] - c) * (x[i as usize] - c).transpose())
+        .sum();
+    let eigen = nalgebra::SymmetricEigen::new(cov);
+    let m = eigen
+        .eigenvectors
+        .column(eigen.eigenvalues.imin())
+        .into_owned();
+    let mean: Vec3 = members.iter().map(|&i| normal[i as usize]).sum();
+    let m = if m.dot(&mean) < 0.0 { -m } else { m };
+    let off = members
+        .iter()
+        .filter(|&&i| normal[i as usize].dot(&m) < SAME_FACE_COS)
+        .count();
+    (off * 10 <= members.len()).then_some(m)
+}
+
+/// The Delaunay triangulation of a face's particles projected on the plane normal to `m`,
+/// wound along `m`, none with an edge longer than `longest`.
+fn planar(members: &[u32], m: Vec3, x: &[Vec3], longest: f64) -> Vec<[u32; 3]> {
+    triangulate_on(members, m, x, longest, |_| true)
+}
+
+/// The triangles about `face[0]` of the Delaunay triangulation of `face` projected on the
+/// plane normal to `n`, wound outward along `n`, none with an edge longer than `longest`.
+fn umbrella(face: &[u32], n: Vec3, x: &[Vec3], longest: f64) -> Vec<[u32; 3]> {
+    triangulate_on(face, n, x, longest, |t| t.contains(&0))
+}
+
+/// The triangles of the Delaunay triangulation of `points` projected on the plane normal to
+/// `n` that `keep` keeps (by their indices into `points`), wound along `n`, none with an edge
+/// longer than `longest`.
+fn triangulate_on(
+    points: &[u32],
+    n: Vec3,
+    x: &[Vec3],
+    longest: f64,
+    keep: impl Fn(&[usize]) -> bool,
+) -> Vec<[u32; 3]> {
+    if points.len() < 3 {
+        return Vec::new();
+    }
+    let e1 = n
+        .cross(&Vec3::x())
+        .try_normalize(1e-6)
+        .unwrap_or_else(|| n.cross(&Vec3::y()).try_normalize(0.0).unwrap_or(Vec3::z()));
+    let e2 = n.cross(&e1);
+    let origin = x[points[0] as usize];
+    let plane: Vec<delaunator::Point> = points
+        .iter()
+        .map(|&p| {
+            let d = x[p as usize] - origin;
+            delaunator::Point {
+                x: e1.dot(&d),
+                y: e2.dot(&d),
+            }
+        })
+        .collect();
+    let triangulation = delaunator::triangulate(&plane);
+    triangulation
+        .triangles
+        .chunks_exact(3)
+        .filter(|t| keep(t))
+        .filter_map(|t| {
+            let mut nodes = [points[t[0]], points[t[1]], points[t[2]]];
+            let c = nodes.map(|p| x[p as usize]);
+            let edge = (0..3)
+                .map(|a| (c[a] - c[(a + 1) % 3]).norm())
+                .fold(0.0, f64::max);
+            if edge > longest {
+                return None;
+            }
+            if (c[1] - c[0]).cross(&(c[2] - c[0])).dot(&n) < 0.0 {
+                nodes.swap(1, 2);
+            }
+            Some(nodes)
+        })
+        .collect()
+}
+
+/// The particles of the surface as built on a crack's edge (see the module's notes), sorted.
+fn crack_edge(pd: &PdBody, found: Option<&Found>) -> Vec<u32> {
+    let Some(f) = found else {
+        return Vec::new();
+    };
+    let n = pd.len();
+    let surface = &pd.case.surface;
+    let x = &pd.reference;
+    let intact = pd.fracture.as_ref().map(|f| &f.intact);
+    let flagged = |i: usize| {
+        surface.is_surface[i] && f.ratio[i] <= SURFACE_LAMBDA && f.normal[i] != Vec3::zeros()
+    };
+    (0..n as u32)
+        .into_par_iter()
+        .filter(|&i| {
+            let i = i as usize;
+            if !flagged(i) {
+                return false;
+            }
+            let nrm = f.normal[i];
+            let reach = OCCLUSION_RADIUS * surface.spacing[i];
+            !pd.case.bonds.range(i).any(|b| {
+                let j = pd.case.bonds.partner[b] as usize;
+                if j >= n || intact.is_some_and(|k| !k[b]) || !(flagged(j) || f.is_new[j]) {
+                    return false;
+                }
+                let d = x[j] - x[i];
+                let r = d.norm();
+                r <= reach
+                    && d.dot(&nrm) > OCCLUSION_COS * r
+                    && f.normal[j].dot(&nrm) > OCCLUSION_COS
+            })
+        })
+        .collect()
+}
