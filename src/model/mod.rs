@@ -188,7 +188,15 @@ impl Model {
                     }
                 }
             }
-            if s == m && scene.self_faces(c) == Some(SelfFaces::Found) {
+            // A mesh of several pieces keeps its pieces' pass unless the faces are asked for.
+            let pieces = || {
+                let pd = bodies[s].as_pd().expect("checked deformable");
+                pd.case.bonds.components(|_| true).1.len() > 1
+            };
+            if s == m
+                && scene.self_faces(c) == Some(SelfFaces::Found)
+                && (c.faces.is_some() || !pieces())
+            {
                 // The surfaces its broken bonds open ([`ContactPass::found_faces`]), flat
                 // where they meet as a crack's faces do.
                 let pd = bodies[s].as_pd().expect("checked deformable");
