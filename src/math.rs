@@ -38,3 +38,16 @@ pub fn tangent_frame(d: Vec3) -> (Vec3, Vec3) {
     let e1 = d.cross(&pick).normalize();
     (e1, d.cross(&e1))
 }
+
+/// The least-squares plane through `points` (at least one): their centroid, and the unit
+/// direction in which they spread least, its sign arbitrary (the caller orients it).
+pub fn least_squares_plane(points: &[Vec3]) -> (Vec3, Vec3) {
+    let c: Vec3 = points.iter().sum::<Vec3>() / points.len() as f64;
+    let cov: nalgebra::Matrix3<f64> = points.iter().map(|d| (d - c) * (d - c).transpose()).sum();
+    let eigen = nalgebra::SymmetricEigen::new(cov);
+    let m = eigen
+        .eigenvectors
+        .column(eigen.eigenvalues.imin())
+        .into_owned();
+    (c, m)
+}

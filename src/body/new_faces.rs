@@ -185,22 +185,14 @@ pub fn new_faces(pd: &PdBody, found: Option<&Found>) -> NewFaces {
 }
 
 /// The normal of the least-squares plane through a face's particles, turned along their
-/// normals; `None` where one of their normals lies more than 60° from it (the face turns too
-/// far to be triangulated on one plane) or they are too few.
+/// normals; `None` where more than a tenth of their normals lie more than 60° from it (the
+/// face turns too far to be triangulated on one plane) or they are too few.
 fn patch_plane(members: &[u32], normal: &[Vec3], x: &[Vec3]) -> Option<Vec3> {
     if members.len() < 3 {
         return None;
     }
-    let c: Vec3 = members.iter().map(|&i| x[i as usize]).sum::<Vec3>() / members.len() as f64;
-    let cov: nalgebra::Matrix3<f64> = members
-        .iter()
-        .map(|&i| (x[i as usize] - c) * (x[i as usize] - c).transpose())
-        .sum();
-    let eigen = nalgebra::SymmetricEigen::new(cov);
-    let m = eigen
-        .eigenvectors
-        .column(eigen.eigenvalues.imin())
-        .into_owned();
+    let points: Vec<Vec3> = members.iter().map(|&i| x[i as usize]).collect();
+    let (_, m) = crate::math::least_squares_plane(&points);
     let mean: Vec3 = members.iter().map(|&i| normal[i as usize]).sum();
     let m = if m.dot(&mean) < 0.0 { -m } else { m };
     let off = members

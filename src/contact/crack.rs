@@ -267,12 +267,7 @@ fn onto_faces(pd: &PdBody, faces: &NewFaces, built: usize) -> (Vec<Vec3>, Vec<Ve
             }
             // The least-squares plane through them: their centroid, and the direction in
             // which they spread least.
-            let c: Vec3 = near.iter().sum::<Vec3>() / near.len() as f64;
-            let cov: nalgebra::Matrix3<f64> =
-                near.iter().map(|d| (d - c) * (d - c).transpose()).sum();
-            let eigen = nalgebra::SymmetricEigen::new(cov);
-            let k = eigen.eigenvalues.imin();
-            let m = eigen.eigenvectors.column(k).into_owned();
+            let (c, m) = crate::math::least_squares_plane(&near);
             let m = if m.dot(&ni) < 0.0 { -m } else { m };
             if m.dot(&ni) < 0.5 {
                 return (i, Vec3::zeros());
