@@ -23,7 +23,9 @@
 //! the crack plane by a fixed offset ([`crate::contact::ContactPass::crack`]): the faces touch
 //! where the body was whole, and a compressed crack carries its load from the start.
 
-use crate::case::correction::{surface_correction_with, CorrectionMethod, Horizon};
+use crate::case::correction::{
+    surface_correction_with, CorrectionMethod, Horizon, SurfaceCorrection,
+};
 use crate::case::neighbours::{BondList, CellGrid};
 use crate::case::segments::{quad_area_normal, MasterSegment};
 use crate::case::skin::{skin_correction, SkinInput};
@@ -174,29 +176,13 @@ impl PdCase {
             removed.extend(cut);
         }
         self.bonds = self.bonds.without(&removed);
-        let source: Vec<usize> = (0..position.len())
-            .map(|j| self.ghosts.source_of(j, n))
-            .collect();
-        let partner_volume = self.ghosts.partner_volumes(&self.particles.volume);
-        let local = self.local_spacing.as_ref().map(|s| self.ghosts.extend(s));
-        self.correction = surface_correction_with(
-            &position,
-            &partner_volume,
-            &source,
-            &self.bonds,
-            &Horizon {
-                radius: self.horizon,
-                spacing: self.particles.spacing,
-                local: local.as_deref(),
-            },
-            method,
-            None,
-        );
+        self.correction = self.correction_over(&self.bonds, &position, method);
         for (&(k, patch), lost) in patches.iter().zip(&lost_of) {
             out.faces
                 .push(open_faces(self, k, &patch, lost).map_err(|m| (k, m))?);
         }
         if skin {
+            let partner_volume = self.ghosts.partner_volumes(&self.particles.volume);
             let input = SkinInput {
                 position: &position,
                 partner_volume: &partner_volume,
@@ -215,6 +201,64 @@ impl PdCase {
             ));
         }
         Ok(out)
+    }
+
+    /// The surface correction (METHOD.md §2) over `bonds` instead of the case's own
+    /// (`position`: reference positions, images included).
+    fn correction_over(
+        &self,
+        bonds: &BondList,
+        position: &[Vec3],
+        method: CorrectionMethod,
+    ) -> SurfaceCorrection {
+        let source: Vec<usize> = (0..position.len())
+            .map(|j| self.ghosts.source_of(j, self.particles.len()))
+            .collect();
+        let partner_volume = self.ghosts.partner_volumes(&self.particles.volume);
+        let local = self.local_spacing.as_ref().map(|s| self.ghosts.extend(s));
+        surface_correction_with(
+            position,
+            &partner_volume,
+            &source,
+            bonds,
+            &Horizon {
+                radius: self.horizon,
+                spacing: self.particles.spacing,
+                local: local.as_deref(),
+            },
+            method,
+            None,
+        )
+    }
+
+    /// Computes the surface correction again as if the bonds `broken` (`(i, bond)`, as
+    /// [`CrackPatch::crossing`] gives them) were not there, and keeps the bonds: a body whose
+    /// pre-cracks break bonds at the start, to find its faces from the broken bonds
+    /// (`faces = "found"`), gets the corrections that [`Self::cut`] gives the pre-crack's own
+    /// faces. The rows beside a cut lost the bonds across it, and their correction for the
+    /// body whole leaves them soft (docs/FRACTURE.md, "Master segments on the faces found
+    /// again"). The broken bonds' factors are 0.
+    pub fn correct_without(&mut self, broken: &[(u32, u32)], method: CorrectionMethod) {
+        let mut position = Vec::new();
+        self.ghosts
+            .extend_positions(&self.particles.position, &mut position);
+        let kept = self.bonds.without(broken);
+        let mut correction = self.correction_over(&kept, &position, method);
+        // `without` keeps each particle's bonds in their order: walk both lists together.
+        let mut factor = vec![0.0; self.bonds.len()];
+        for i in 0..self.bonds.particles() {
+            let mut next = kept.range(i).peekable();
+            for b in self.bonds.range(i) {
+                if let Some(&c) = next.peek() {
+                    if kept.partner[c] == self.bonds.partner[b] {
+                        factor[b] = correction.bond_factor[c];
+                        next.next();
+                    }
+                }
+            }
+        }
+        correction.bond_factor = factor;
+        self.correction = correction;
     }
 }
 

@@ -1,4 +1,5 @@
 use super::*;
+use crate::case::crack_faces::CrackPatch;
 
 #[test]
 fn a_model_keeps_its_meshs_nodes_and_sets_without_the_elements() {
@@ -90,4 +91,57 @@ fn flat_faced_block_lattice_lambdas() {
     let a = case.surface_agreement();
     assert_eq!((a.missed, a.extra), (0, 0), "{a:?}");
     assert_eq!(case.segments.segments.len(), case.faces.boundary.len());
+}
+
+/// A body whose pre-crack breaks its bonds (`faces = "found"`) gets, on the bonds it keeps,
+/// the surface correction of the body cut there ([`PdCase::cut`] without the skin
+/// correction), with a symmetry plane's images among the bonds; the broken bonds' factors 0.
+#[test]
+fn corrections_without_a_cuts_bonds_are_the_cut_bodys() {
+    let mesh = generators::cuboid([0.0, 0.0, 0.0], [0.4, 0.3, 0.5], 0.05);
+    let options = CaseOptions {
+        symmetry: vec![SymmetryPlane { axis: 1, at: 0.0 }],
+        ..CaseOptions::default()
+    };
+    let patch = CrackPatch::new(
+        Vec3::new(0.2, 0.15, 0.26),
+        Vec3::new(0.5, 0.0, 0.866_025_403_784_438_6),
+        Vec3::new(0.0, 1.0, 0.0),
+        [2.0, 2.0],
+    );
+    let mut cut = PdCase::build(mesh.clone(), options.clone()).expect("case");
+    let mut kept = PdCase::build(mesh, options).expect("case");
+    let as_built = kept.correction.bond_factor.clone();
+    let mut position = Vec::new();
+    kept.ghosts
+        .extend_positions(&kept.particles.position, &mut position);
+    let broken = patch.crossing(&kept.bonds, &position);
+    assert!(!broken.is_empty());
+    cut.cut(&[(0, patch)], CorrectionMethod::Balanced, false)
+        .expect("cuts");
+    kept.correct_without(&broken, CorrectionMethod::Balanced);
+    let mut zeros = 0;
+    for i in 0..kept.bonds.particles() {
+        let mut on_cut = cut.bonds.range(i);
+        for b in kept.bonds.range(i) {
+            let factor = kept.correction.bond_factor[b];
+            match on_cut.clone().next() {
+                Some(c) if cut.bonds.partner[c] == kept.bonds.partner[b] => {
+                    assert_eq!(factor, cut.correction.bond_factor[c], "bond {b}");
+                    on_cut.next();
+                }
+                _ => {
+                    assert_eq!(factor, 0.0);
+                    zeros += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(zeros, kept.bonds.len() - cut.bonds.len());
+    assert!(zeros >= broken.len());
+    // The rows beside the cut are corrected anew (stiffer than as built).
+    let stiffer = (0..as_built.len())
+        .filter(|&b| kept.correction.bond_factor[b] > 1.01 * as_built[b])
+        .count();
+    assert!(stiffer > broken.len(), "{stiffer} bonds stiffer");
 }

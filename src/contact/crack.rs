@@ -10,7 +10,7 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use super::{ContactLaw, ContactPass};
-use crate::body::new_faces::{NewFaces, REACH};
+use crate::body::new_faces::NewFaces;
 use crate::body::{Body, PdBody};
 use crate::math::Vec3;
 
@@ -224,12 +224,16 @@ impl ContactPass {
 /// particle of the body, the offset of its point as a master node (`.0`) and as a slave
 /// (`.1`); zero off the new faces.
 ///
-/// A crack's faces are as rough as the particles beside it: on a lattice a flat row, on an
-/// unstructured mesh particles at depths up to a spacing or so apart. Each face particle's
-/// point is moved along its normal onto the plane through its face's particles about it
-/// (those still bonded to it within [`REACH`] spacings, their normals within 60° of its own,
-/// and itself: the least-squares plane, through their centroid, normal to the direction they
-/// spread least in), so the faces are smooth at the scale of the spacing. And each particle stands for a cell about it, so the two faces of a crack,
+/// A crack's faces are as rough as the particles beside it: on a lattice a flat row or
+/// stairs, on an unstructured mesh particles at depths up to a spacing or so apart. Each
+/// face particle's point is moved onto the plane through its face's particles about it
+/// (every one still bonded to it, its horizon, their normals within 60° of its own, and
+/// itself: the least-squares plane, through their centroid, normal to the direction they
+/// spread least in), so the faces are smooth at the scale of the spacing. Over a smaller
+/// patch (2 spacings) the planes followed the stairs of a lattice cut at 30°: faces
+/// corrugated by a few degrees, on which the contact's tangential share (0.06 of its normal
+/// force) held the halves back as a friction would (docs/FRACTURE.md). And each particle
+/// stands for a cell about it, so the two faces of a crack,
 /// their particles a row or so apart, touch where the body was whole: a slave's point is
 /// moved further, onto the face across (the nearest segment of a new face it projects into
 /// within [`ONTO_REACH`] spacings in front of it, facing it, none of its corners bonded to
@@ -244,7 +248,6 @@ fn onto_faces(pd: &PdBody, faces: &NewFaces, built: usize) -> (Vec<Vec3>, Vec<Ve
     for &i in &faces.new {
         on_face[i as usize] = true;
     }
-    let reach = REACH * spacing;
     let smoothed: Vec<(u32, Vec3)> = faces
         .new
         .par_iter()
@@ -257,7 +260,6 @@ fn onto_faces(pd: &PdBody, faces: &NewFaces, built: usize) -> (Vec<Vec3>, Vec<Ve
                     && on_face[j]
                     && intact.is_none_or(|f| f[b])
                     && faces.normal[j].dot(&ni) >= 0.5
-                    && (x[j] - xi).norm() <= reach
                 {
                     near.push(x[j] - xi);
                 }

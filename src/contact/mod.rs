@@ -515,7 +515,7 @@ impl ContactPass {
             let trial = anchor.map(|a| (a, point.slip_work));
             (Some((point, trial)), None)
         };
-        let edge_margin = if self.crack.as_ref().is_some_and(|c| c.edge_margin) {
+        let edge_margin = if self.is_crack() || self.found.is_some() {
             CRACK_EDGE_MARGIN * self.spacing
         } else {
             0.0
@@ -559,7 +559,12 @@ impl ContactPass {
                 // A crack's face particle at the face's edge lies on the other face's edge;
                 // the faces' lateral strains differ by a hair, and it would drop off that edge
                 // and back in by turns: within a margin it stays on the segment it is nearest.
-                let any_inside = projections.iter().any(|c| c.2 == 0.0);
+                // On the faces found again, a segment the slave does not face (the outer face
+                // of the other side, seen edge-on from the crack's edge) does not hold it off
+                // the face across.
+                let any_inside = projections.iter().any(|c| {
+                    c.2 == 0.0 && (self.found.is_none() || normal.dot(&c.1.normal) < -FACING)
+                });
                 let inside = projections
                     .iter()
                     .filter(|c| c.2 == 0.0 || (!any_inside && c.2 <= edge_margin))
