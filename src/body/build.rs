@@ -470,18 +470,10 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
             // A body pressed on the surfaces found again: the rows beside its pre-cracks get
             // the corrections of a body without the bonds across (as `cut` gives its faces).
             let found_faces = scene.contacts.iter().any(|c| {
-                (c.slave == spec.name || c.master == spec.name)
-                    && scene.self_faces(c) == Some(crate::scene::SelfFaces::Found)
+                c.slave == spec.name && scene.self_faces(c) == Some(crate::scene::SelfFaces::Found)
             });
             if found_faces && !patches.is_empty() {
-                let mut position = Vec::new();
-                case.ghosts
-                    .extend_positions(&case.particles.position, &mut position);
-                let broken: Vec<(u32, u32)> = patches
-                    .iter()
-                    .flat_map(|(_, patch)| patch.crossing(&case.bonds, &position))
-                    .collect();
-                case.correct_without(&broken, method);
+                case.correct_without(&patches, method);
             }
             let mut body = PdBody::new(
                 &spec.name,

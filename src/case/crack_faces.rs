@@ -231,18 +231,21 @@ impl PdCase {
         )
     }
 
-    /// Computes the surface correction again as if the bonds `broken` (`(i, bond)`, as
-    /// [`CrackPatch::crossing`] gives them) were not there, and keeps the bonds: a body whose
-    /// pre-cracks break bonds at the start, to find its faces from the broken bonds
-    /// (`faces = "found"`), gets the corrections that [`Self::cut`] gives the pre-crack's own
-    /// faces. The rows beside a cut lost the bonds across it, and their correction for the
-    /// body whole leaves them soft (docs/FRACTURE.md, "Master segments on the faces found
-    /// again"). The broken bonds' factors are 0.
-    pub fn correct_without(&mut self, broken: &[(u32, u32)], method: CorrectionMethod) {
+    /// Computes the surface correction again as if the bonds that cross `patches` were not
+    /// there, and keeps the bonds: a body whose pre-cracks break bonds at the start, to find
+    /// its faces from the broken bonds (`faces = "found"`), gets the corrections that
+    /// [`Self::cut`] gives the pre-crack's own faces. The rows beside a cut lost the bonds
+    /// across it, and their correction for the body whole leaves them soft (docs/FRACTURE.md,
+    /// "Master segments on the faces found again"). The crossing bonds' factors are 0.
+    pub fn correct_without(&mut self, patches: &[(usize, CrackPatch)], method: CorrectionMethod) {
         let mut position = Vec::new();
         self.ghosts
             .extend_positions(&self.particles.position, &mut position);
-        let kept = self.bonds.without(broken);
+        let broken: Vec<(u32, u32)> = patches
+            .iter()
+            .flat_map(|(_, patch)| patch.crossing(&self.bonds, &position))
+            .collect();
+        let kept = self.bonds.without(&broken);
         let mut correction = self.correction_over(&kept, &position, method);
         // `without` keeps each particle's bonds in their order: walk both lists together.
         let mut factor = vec![0.0; self.bonds.len()];

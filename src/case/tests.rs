@@ -119,7 +119,7 @@ fn corrections_without_a_cuts_bonds_are_the_cut_bodys() {
     assert!(!broken.is_empty());
     cut.cut(&[(0, patch)], CorrectionMethod::Balanced, false)
         .expect("cuts");
-    kept.correct_without(&broken, CorrectionMethod::Balanced);
+    kept.correct_without(&[(0, patch)], CorrectionMethod::Balanced);
     let mut zeros = 0;
     for i in 0..kept.bonds.particles() {
         let mut on_cut = cut.bonds.range(i);
