@@ -473,7 +473,14 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
                 c.slave == spec.name && scene.self_faces(c) == Some(crate::scene::SelfFaces::Found)
             });
             if found_faces && !patches.is_empty() {
-                case.correct_without(&patches, method);
+                case.correct_without(&patches, method, skin)
+                    .map_err(|(k, msg)| {
+                        if msg == "cuts no bond" {
+                            cuts_nothing(k)
+                        } else {
+                            scene.block_error("[[precrack]]", k, msg)
+                        }
+                    })?;
             }
             let mut body = PdBody::new(
                 &spec.name,

@@ -231,37 +231,39 @@ impl PdCase {
         )
     }
 
-    /// Computes the surface correction again as if the bonds that cross `patches` were not
-    /// there, and keeps the bonds: a body whose pre-cracks break bonds at the start, to find
-    /// its faces from the broken bonds (`faces = "found"`), gets the corrections that
-    /// [`Self::cut`] gives the pre-crack's own faces. The rows beside a cut lost the bonds
-    /// across it, and their correction for the body whole leaves them soft (docs/FRACTURE.md,
-    /// "Master segments on the faces found again"). The crossing bonds' factors are 0.
-    pub fn correct_without(&mut self, patches: &[(usize, CrackPatch)], method: CorrectionMethod) {
-        let mut position = Vec::new();
-        self.ghosts
-            .extend_positions(&self.particles.position, &mut position);
-        let broken: Vec<(u32, u32)> = patches
-            .iter()
-            .flat_map(|(_, patch)| patch.crossing(&self.bonds, &position))
-            .collect();
-        let kept = self.bonds.without(&broken);
-        let mut correction = self.correction_over(&kept, &position, method);
+    /// Computes the surface and skin corrections again as if the bonds that cross `patches`
+    /// were not there, and keeps the bonds: a body whose pre-cracks break bonds at the start,
+    /// to find its faces from the broken bonds (`faces = "found"`), gets the corrections that
+    /// [`Self::cut`] gives the pre-crack's own faces (those of a copy cut there). The rows
+    /// beside a cut lost the bonds across it, and their correction for the body whole leaves
+    /// them soft; the skin correction stiffens the faces' rows and, computed again over all
+    /// the bonds, the outer faces' rows as built (docs/FRACTURE.md, "Master segments on the
+    /// faces found again"). The crossing bonds' factors are 0. `Err` as [`Self::cut`]'s.
+    pub fn correct_without(
+        &mut self,
+        patches: &[(usize, CrackPatch)],
+        method: CorrectionMethod,
+        skin: bool,
+    ) -> Result<(), (usize, String)> {
+        let mut cut = self.clone();
+        cut.cut(patches, method, skin)?;
         // `without` keeps each particle's bonds in their order: walk both lists together.
         let mut factor = vec![0.0; self.bonds.len()];
         for i in 0..self.bonds.particles() {
-            let mut next = kept.range(i).peekable();
+            let mut next = cut.bonds.range(i).peekable();
             for b in self.bonds.range(i) {
                 if let Some(&c) = next.peek() {
-                    if kept.partner[c] == self.bonds.partner[b] {
-                        factor[b] = correction.bond_factor[c];
+                    if cut.bonds.partner[c] == self.bonds.partner[b] {
+                        factor[b] = cut.correction.bond_factor[c];
                         next.next();
                     }
                 }
             }
         }
-        correction.bond_factor = factor;
-        self.correction = correction;
+        self.correction = cut.correction;
+        self.correction.bond_factor = factor;
+        self.skin = cut.skin;
+        Ok(())
     }
 }
 

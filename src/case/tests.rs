@@ -94,8 +94,7 @@ fn flat_faced_block_lattice_lambdas() {
 }
 
 /// A body whose pre-crack breaks its bonds (`faces = "found"`) gets, on the bonds it keeps,
-/// the surface correction of the body cut there ([`PdCase::cut`] without the skin
-/// correction), with a symmetry plane's images among the bonds; the broken bonds' factors 0.
+/// the surface and skin corrections of the body cut there ([`PdCase::cut`]), with a symmetry plane's images among the bonds; the broken bonds' factors 0.
 #[test]
 fn corrections_without_a_cuts_bonds_are_the_cut_bodys() {
     let mesh = generators::cuboid([0.0, 0.0, 0.0], [0.4, 0.3, 0.5], 0.05);
@@ -117,9 +116,11 @@ fn corrections_without_a_cuts_bonds_are_the_cut_bodys() {
         .extend_positions(&kept.particles.position, &mut position);
     let broken = patch.crossing(&kept.bonds, &position);
     assert!(!broken.is_empty());
-    cut.cut(&[(0, patch)], CorrectionMethod::Balanced, false)
+    cut.cut(&[(0, patch)], CorrectionMethod::Balanced, true)
         .expect("cuts");
-    kept.correct_without(&[(0, patch)], CorrectionMethod::Balanced);
+    kept.correct_without(&[(0, patch)], CorrectionMethod::Balanced, true)
+        .expect("cuts");
+    assert_eq!(kept.skin, cut.skin);
     let mut zeros = 0;
     for i in 0..kept.bonds.particles() {
         let mut on_cut = cut.bonds.range(i);

@@ -287,6 +287,8 @@ fn onto_faces(pd: &PdBody, faces: &NewFaces, built: usize) -> (Vec<Vec3>, Vec<Ve
         .iter()
         .map(|s| (at(s.nodes[0]) + at(s.nodes[1]) + at(s.nodes[2])) / 3.0)
         .collect();
+    let view = super::MasterView::Shifted(pd, &master);
+    let planes = super::shared_planes(pd, view);
     let reach = ONTO_REACH * spacing;
     let grid = crate::case::neighbours::CellGrid::new(&centres, reach);
     let moved: Vec<(u32, Vec3)> = faces
@@ -301,8 +303,11 @@ fn onto_faces(pd: &PdBody, faces: &NewFaces, built: usize) -> (Vec<Vec3>, Vec<Ve
                 if seg.normal.dot(&ns) > -0.5 || !FoundFaces::apart(s, &seg.nodes, &partners) {
                     return;
                 }
-                // At a face's edge, a little beyond its last segment (as a pre-crack's).
-                let Some((pr, outside)) = super::project_any(p, seg.nodes.map(at), true) else {
+                // At a face's edge, a little beyond its last segment (as a pre-crack's); on
+                // a symmetry plane, on the segment's edge there, as the narrow phase projects.
+                let Some((pr, outside)) =
+                    super::project_plain(pd, view, &planes, s, p, (built + k as usize) as u32)
+                else {
                     return;
                 };
                 if outside <= CRACK_EDGE_MARGIN * spacing

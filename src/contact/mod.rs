@@ -105,6 +105,41 @@ fn plane_edge(segment: &MasterSegment, on: impl Fn(u32) -> bool) -> Option<(usiz
     }
 }
 
+/// Slave `s`'s (at `p`) projection on segment `seg` of `view` ([`project_any`]), but on the
+/// segment's edge in a symmetry plane where the slave lies on one the master shares
+/// ([`project_on_plane_edge`]; `planes`: [`shared_planes`]).
+fn project_plain(
+    sb: &PdBody,
+    view: MasterView,
+    planes: &[(u8, u8, usize)],
+    s: u32,
+    p: Vec3,
+    seg: u32,
+) -> Option<(Projection, f64)> {
+    let x = view.corners(seg as usize);
+    let segment = &view.segments()[seg as usize];
+    if let Some(mb) = view.pd() {
+        let on = sb
+            .case
+            .ghosts
+            .on_plane
+            .get(s as usize)
+            .copied()
+            .unwrap_or(0);
+        for &(slave_bit, master_bit, axis) in planes {
+            if on & slave_bit == 0 {
+                continue;
+            }
+            if let Some(edge) = plane_edge(segment, |n| {
+                mb.case.ghosts.on_plane[n as usize] & master_bit != 0
+            }) {
+                return project_on_plane_edge(p, x, edge, axis);
+            }
+        }
+    }
+    project_any(p, x, segment.is_triangle())
+}
+
 /// A read-only view of a master surface: node positions and segments.
 #[derive(Clone, Copy)]
 pub enum MasterView<'a> {
@@ -447,34 +482,8 @@ impl ContactPass {
         let segs = view.segments();
         let window = self.law.window;
         let planes = shared_planes(sb, view);
-        // A slave's projection on a segment: on the plane's edge of the segment where the
-        // slave lies on a symmetry plane the master shares ([`project_on_plane_edge`]).
-        let project_plain = |s: u32, p: Vec3, seg: u32| {
-            let x = view.corners(seg as usize);
-            let segment = &segs[seg as usize];
-            if let Some(mb) = view.pd() {
-                let on = sb
-                    .case
-                    .ghosts
-                    .on_plane
-                    .get(s as usize)
-                    .copied()
-                    .unwrap_or(0);
-                for &(slave_bit, master_bit, axis) in &planes {
-                    if on & slave_bit == 0 {
-                        continue;
-                    }
-                    if let Some(edge) = plane_edge(segment, |n| {
-                        mb.case.ghosts.on_plane[n as usize] & master_bit != 0
-                    }) {
-                        return project_on_plane_edge(p, x, edge, axis);
-                    }
-                }
-            }
-            project_any(p, x, segment.is_triangle())
-        };
         let project_on = |s: u32, p: Vec3, seg: u32| {
-            let found = project_plain(s, p, seg);
+            let found = project_plain(sb, view, &planes, s, p, seg);
             match &self.found {
                 // On the faces broken bonds opened, a slave that stood behind the segment
                 // before the load (where the faces' particles were rough) starts there.
