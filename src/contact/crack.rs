@@ -235,8 +235,8 @@ impl ContactPass {
 /// force) held the halves back as a friction would (docs/FRACTURE.md). And each particle
 /// stands for a cell about it, so the two faces of a crack,
 /// their particles a row or so apart, touch where the body was whole: a slave's point is
-/// moved further, onto the face across (the nearest segment of a new face it projects into
-/// within [`ONTO_REACH`] spacings in front of it, facing it, none of its corners bonded to
+/// moved further, onto the face across (the segment of a new face nearest to it, within
+/// [`CRACK_EDGE_MARGIN`] of its edge and [`ONTO_REACH`] spacings in front of it, facing it, none of its corners bonded to
 /// it, its corners smoothed), so that it touches that face with no gap and no overlap
 /// before the load.
 fn onto_faces(pd: &PdBody, faces: &NewFaces, built: usize) -> (Vec<Vec3>, Vec<Vec3>) {
@@ -310,12 +310,18 @@ fn onto_faces(pd: &PdBody, faces: &NewFaces, built: usize) -> (Vec<Vec3>, Vec<Ve
                 else {
                     return;
                 };
+                // The nearest segment, the distance to its clamped projection: of a segment
+                // the slave is just beside and the next, a hair further off, that it projects
+                // into, the next, the one the narrow phase takes (by the gap alone the first
+                // was taken, and the slave stood off the face it presses: +3.9 % compliance
+                // on the gmsh tet4 block cut across, +1.2 % now, the pre-crack's own faces').
+                let distance = pr.gap.hypot(outside);
                 if outside <= CRACK_EDGE_MARGIN * spacing
                     && pr.gap >= 0.0
                     && pr.gap <= reach
-                    && best.is_none_or(|b| pr.gap < b.0)
+                    && best.is_none_or(|b| distance < b.0)
                 {
-                    best = Some((pr.gap, -pr.normal * pr.gap));
+                    best = Some((distance, -pr.normal * pr.gap));
                 }
             });
             best.map(|b| (s, b.1))
