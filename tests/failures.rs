@@ -305,7 +305,7 @@ fn adr_divergence() {
 }
 
 /// ADR stopped by max_iterations before the tolerance: a failed run (exit 1), with its last
-/// state written as the last frame.
+/// state written as the last frame, and the particle that carries the most of the force left.
 #[test]
 fn adr_without_convergence() {
     let extra = format!("{CONTACT}[[load]]\nbody = \"block\"\nforce = [0.0, 0.0, -1e5]\n");
@@ -316,6 +316,13 @@ fn adr_without_convergence() {
     assert!(
         f.message.contains("did not converge in 30 iterations")
             && f.message.contains("max_iterations"),
+        "{}",
+        f.message
+    );
+    // Where the force is left: the particle that carries the most of it.
+    assert!(
+        f.message.contains("the largest out-of-balance force")
+            && f.message.contains("of \"block\" at ["),
         "{}",
         f.message
     );

@@ -375,3 +375,45 @@ pub fn crossed_cracks(model: &Model, scene: &Scene) -> Option<crate::error::Erro
     }
     None
 }
+
+/// Where a quasi-static run that did not settle left its out-of-balance force: the particle
+/// that carries the most of it (its free components, as the residual counts them), and the
+/// contact force on it. A contact there that comes and goes or slides back and forth between
+/// iterations (a slave at a face's edge or corner) is what a user can act on; "too few
+/// iterations" alone is not. `None` where no force is left.
+pub fn unbalanced(model: &Model) -> Option<String> {
+    let mut total = 0.0;
+    let mut best: Option<(f64, &crate::body::PdBody, usize)> = None;
+    for pd in model.bodies.iter().filter_map(Body::as_pd) {
+        for i in pd.owned.clone() {
+            let f = pd.force[i]
+                .component_mul(&crate::solver::free_factor(pd.fixed[i]))
+                .norm_squared();
+            total += f;
+            if best.is_none_or(|b| f > b.0) {
+                best = Some((f, pd, i));
+            }
+        }
+    }
+    let (f, pd, i) = best?;
+    if !(f > 0.0) {
+        return None;
+    }
+    let x = pd.reference[i];
+    let mut m = format!(
+        "the largest out-of-balance force, {:.3e} N ({:.0} % of the residual's square), is on particle {i} of \"{}\" at [{}, {}, {}]",
+        f.sqrt(),
+        100.0 * f / total,
+        pd.name,
+        num(x.x),
+        num(x.y),
+        num(x.z)
+    );
+    let contact = pd.contact_force[i].norm();
+    if contact > 0.0 {
+        m.push_str(&format!(
+            ", which a contact pushes with {contact:.3e} N: a contact that comes and goes, or slides back and forth, there between iterations keeps the run from settling"
+        ));
+    }
+    Some(m)
+}

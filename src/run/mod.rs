@@ -492,6 +492,15 @@ pub fn run_scene_with(
         }
         r => r,
     };
+    // Where the force is left, on one process only: a rank of a decomposed run sees its own
+    // particles alone.
+    let decomposed = options.comm.as_ref().is_some_and(|c| c.size() > 1);
+    let unbalanced = |model: &Model, decomposed: bool| {
+        (!decomposed)
+            .then(|| checks::unbalanced(model))
+            .flatten()
+            .map_or_else(String::new, |m| format!("; {m}"))
+    };
     let (stats, error) = match result {
         // A body gone past everything it touches: the scene cannot be solved quasi-statically.
         Ok(s) if s.unheld.is_some() => {
@@ -503,20 +512,22 @@ pub fn run_scene_with(
         // run: the state is not an equilibrium.
         Ok(s) if scene.solver.kind == SolverKind::Static && !s.converged && !s.interrupted => {
             let e = Error::numerical(format!(
-                "the static solver did not converge in {} Newton iterations (residual {:.3e}, tolerance {:.1e}, load factor {:.4} reached); likely cause: too few iterations (raise max_iterations) or loads that the supports and contacts cannot balance",
+                "the static solver did not converge in {} Newton iterations (residual {:.3e}, tolerance {:.1e}, load factor {:.4} reached){}; likely cause: too few iterations (raise max_iterations) or loads that the supports and contacts cannot balance",
                 s.iterations,
                 s.residual,
                 scene.solver.tolerance.unwrap_or(crate::solver::DEFAULT_TOLERANCE),
-                s.load_factor
+                s.load_factor,
+                unbalanced(&model, decomposed)
             ));
             (s, Some(e))
         }
         Ok(s) if scene.solver.kind == SolverKind::Adr && !s.converged && !s.interrupted => {
             let e = Error::numerical(format!(
-                "ADR did not converge in {} iterations (residual {:.3e}, tolerance {:.1e}); likely cause: too few iterations (raise max_iterations) or loads that the supports and contacts cannot balance",
+                "ADR did not converge in {} iterations (residual {:.3e}, tolerance {:.1e}){}; likely cause: too few iterations (raise max_iterations) or loads that the supports and contacts cannot balance",
                 s.iterations,
                 s.residual,
-                scene.solver.tolerance.unwrap_or(crate::solver::DEFAULT_TOLERANCE)
+                scene.solver.tolerance.unwrap_or(crate::solver::DEFAULT_TOLERANCE),
+                unbalanced(&model, decomposed)
             ));
             (s, Some(e))
         }
