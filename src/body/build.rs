@@ -447,6 +447,14 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
                     ),
                 )
             };
+            // `PdCase::cut`'s refusal of a pre-crack, as the scene's error at its block.
+            let cut_error = |(k, msg): (usize, String)| {
+                if msg == "cuts no bond" {
+                    cuts_nothing(k)
+                } else {
+                    scene.block_error("[[precrack]]", k, msg)
+                }
+            };
             // A body that is its own contact master presses its pre-cracks' faces together:
             // the case is cut before the body is made, so that its corrections see the faces.
             // (Pressed on the surfaces found again instead, its pre-cracks break bonds as
@@ -457,13 +465,7 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
                     && scene.self_faces(c) != Some(crate::scene::SelfFaces::Found)
             });
             let cut = if self_contact && !patches.is_empty() {
-                Some(case.cut(&patches, method, skin).map_err(|(k, msg)| {
-                    if msg == "cuts no bond" {
-                        cuts_nothing(k)
-                    } else {
-                        scene.block_error("[[precrack]]", k, msg)
-                    }
-                })?)
+                Some(case.cut(&patches, method, skin).map_err(cut_error)?)
             } else {
                 None
             };
@@ -474,13 +476,7 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
             });
             if found_faces && !patches.is_empty() {
                 case.correct_without(&patches, method, skin)
-                    .map_err(|(k, msg)| {
-                        if msg == "cuts no bond" {
-                            cuts_nothing(k)
-                        } else {
-                            scene.block_error("[[precrack]]", k, msg)
-                        }
-                    })?;
+                    .map_err(cut_error)?;
             }
             let mut body = PdBody::new(
                 &spec.name,

@@ -94,7 +94,8 @@ fn flat_faced_block_lattice_lambdas() {
 }
 
 /// A body whose pre-crack breaks its bonds (`faces = "found"`) gets, on the bonds it keeps,
-/// the surface and skin corrections of the body cut there ([`PdCase::cut`]), with a symmetry plane's images among the bonds; the broken bonds' factors 0.
+/// the surface and skin corrections of the body cut there ([`PdCase::cut`]), with a symmetry
+/// plane's images among the bonds; the broken bonds' factors 0.
 #[test]
 fn corrections_without_a_cuts_bonds_are_the_cut_bodys() {
     let mesh = generators::cuboid([0.0, 0.0, 0.0], [0.4, 0.3, 0.5], 0.05);

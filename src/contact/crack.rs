@@ -236,9 +236,9 @@ impl ContactPass {
 /// stands for a cell about it, so the two faces of a crack,
 /// their particles a row or so apart, touch where the body was whole: a slave's point is
 /// moved further, onto the face across (the segment of a new face nearest to it, within
-/// [`CRACK_EDGE_MARGIN`] of its edge and [`ONTO_REACH`] spacings in front of it, facing it, none of its corners bonded to
-/// it, its corners smoothed), so that it touches that face with no gap and no overlap
-/// before the load.
+/// [`CRACK_EDGE_MARGIN`] of its edge and [`ONTO_REACH`] spacings in front of it, facing it,
+/// none of its corners bonded to it, its corners smoothed), so that it touches that face with
+/// no gap and no overlap before the load.
 fn onto_faces(pd: &PdBody, faces: &NewFaces, built: usize) -> (Vec<Vec3>, Vec<Vec3>) {
     let n = pd.len();
     let spacing = pd.spacing();

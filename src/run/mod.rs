@@ -495,11 +495,9 @@ pub fn run_scene_with(
     // Where the force is left, on one process only: a rank of a decomposed run sees its own
     // particles alone.
     let decomposed = options.comm.as_ref().is_some_and(|c| c.size() > 1);
-    let unbalanced = |model: &Model, decomposed: bool| {
-        (!decomposed)
-            .then(|| checks::unbalanced(model))
-            .flatten()
-            .map_or_else(String::new, |m| format!("; {m}"))
+    let unbalanced = |model: &Model| match checks::unbalanced(model) {
+        Some(m) if !decomposed => format!("; {m}"),
+        _ => String::new(),
     };
     let (stats, error) = match result {
         // A body gone past everything it touches: the scene cannot be solved quasi-statically.
@@ -517,7 +515,7 @@ pub fn run_scene_with(
                 s.residual,
                 scene.solver.tolerance.unwrap_or(crate::solver::DEFAULT_TOLERANCE),
                 s.load_factor,
-                unbalanced(&model, decomposed)
+                unbalanced(&model)
             ));
             (s, Some(e))
         }
@@ -527,7 +525,7 @@ pub fn run_scene_with(
                 s.iterations,
                 s.residual,
                 scene.solver.tolerance.unwrap_or(crate::solver::DEFAULT_TOLERANCE),
-                unbalanced(&model, decomposed)
+                unbalanced(&model)
             ));
             (s, Some(e))
         }
