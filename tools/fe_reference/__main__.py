@@ -68,14 +68,18 @@ def main(argv=None):
     ap.add_argument("--contact-radius", type=float, default=0.15, metavar="A",
                     help="Hertz contact radius a in m (the load follows from it; default 0.15, "
                          "a/R = 0.15; `pdcontact sweep` and `validate --study` use 0.3)")
+    ap.add_argument("--ball", type=float, default=0.0, metavar="RB",
+                    help="press the sphere on a rigid ball of radius RB (m) in place of the "
+                         "plane (Hertz with 1/R* = 1/R + 1/RB)")
     args = ap.parse_args(argv)
 
     from . import run  # imports gmsh: after argument parsing, so --help works without it
 
     t0 = time.perf_counter()
     cases = args.case or [c for c in SERIES if not (args.quick and c in QUICK_SKIPS)]
-    problem = Problem(contact_radius=args.contact_radius)
-    print(f"sphere R = {problem.radius:g} m, E = {problem.youngs:.3g} Pa, nu = "
+    problem = Problem(contact_radius=args.contact_radius, ball=args.ball)
+    against = f"a rigid ball RB = {args.ball:g} m" if args.ball > 0 else "a rigid plane"
+    print(f"sphere R = {problem.radius:g} m on {against}, E = {problem.youngs:.3g} Pa, nu = "
           f"{problem.poisson:g}; P = {problem.load:.6g} N for a = {problem.contact_radius:g} m, "
           f"p0 = {problem.p0:.6g} Pa")
     print(f"machine: {machine()}; {ccx_version()}")

@@ -46,6 +46,14 @@ def run_case(model, h_over_a, workdir, problem=Problem(), *, penalty=1e14, solve
         slave_cap = 2.0 * a
     opts = dict(mesh_options or {})
     opts.setdefault("fine", (0.22 if model == "cax8-axisymmetric" else 0.2) * a / 0.15)
+    if problem.ball > 0.0:
+        # The rigid surface must lie on the ball: the strip reaches 1.5 slave caps from the
+        # axis, the block's corner 1.5 sqrt(2) of them.
+        reach = 1.5 if model == "cax8-axisymmetric" else 1.5 * np.sqrt(2.0)
+        slave_cap = min(slave_cap, 0.98 * problem.ball / reach)
+        if slave_cap <= 1.05 * a:
+            raise ValueError(f"a ball of radius {problem.ball:g} m is too small for {model} at "
+                             f"a = {a:g} m: the rigid surface would not cover the contact")
     if model == "cax8-axisymmetric":
         x, conn = mesh.axisymmetric(h, radius, full=loading == "body", **opts)
         plane = deck.plane_strip(deck.graded(1e-6 * radius, plane_fine * a, 1.5 * slave_cap, h),
@@ -56,6 +64,12 @@ def run_case(model, h_over_a, workdir, problem=Problem(), *, penalty=1e14, solve
         plane = deck.plane_block(deck.graded(-h, plane_fine * a, 1.5 * slave_cap, h),
                                  radius, 0.05 * radius)
         plane = (plane[0], plane[1], "C3D8", plane[2])
+    # A rigid ball in place of the plane: every node of the strip (block) dropped by the
+    # ball's sag at its distance from the axis (all of them are held, so only the top
+    # surface's shape matters).
+    pnodes = plane[0].copy()
+    pnodes[:, -1] -= problem.sag(np.linalg.norm(pnodes[:, :-1], axis=1))
+    plane = (pnodes,) + plane[1:]
     if slave == "auto":
         # CalculiX's face-to-face contact skips slave faces of axisymmetric elements that
         # touch the axis (they expand into collapsed faces): there the plane is the slave.
