@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Recompute the Hertz sphere figures from the last frame of a pdcontact run.
 
-    python3 tools/hertz_mre.py RUN_DIR --load P --radius R --youngs E --poisson NU [--centre X,Y]
+    python3 tools/hertz_mre.py RUN_DIR --load P --radius R --youngs E --poisson NU [--centre X,Y] [--body NAME]
 
 Reads the `<body>/particles` blocks of the last frame (frame_*.vtm) listed in RUN_DIR/run.pvd
 with VTK's own reader (pip install vtk) and prints the mean relative error of METHOD.md section 7: the mean of |p_i - p(r_i)| / p0
@@ -11,7 +11,9 @@ reference configuration; then the radius of the least-squares fit of
 p0' sqrt(1 - (r/A)^2) to the facing particles (A and p0' free, as `pdcontact validate` fits it)
 and the peak. The pressure is the frame's `contact_pressure` (recovered on the
 surface) or, with --field particle_pressure, each particle's own. --centre gives the centre in the plane (default 0,0: a model cut by
-symmetry planes through the contact). E* is that of a rigid plane, E / (1 - nu^2).
+symmetry planes through the contact). E* is that of a rigid plane, E / (1 - nu^2). --body reads
+one body of a run with several (two deformable spheres: each body's contact force points its
+own way, and read together they cancel); every deformable body by default.
 """
 import argparse
 import math
@@ -28,6 +30,7 @@ def main():
     ap.add_argument("--youngs", type=float, required=True)
     ap.add_argument("--poisson", type=float, required=True)
     ap.add_argument("--centre", default="0,0")
+    ap.add_argument("--body", help="the body to read (default: every deformable body)")
     ap.add_argument("--field", default="contact_pressure",
                     help="the pressure to measure: contact_pressure (recovered on the surface, "
                          "the default) or particle_pressure (each particle's own)")
@@ -49,13 +52,20 @@ def main():
     # Every deformable body's particles block ("<body>/particles"), one after another.
     grids = []
     root = reader.GetOutput()
+    names = []
     for k in range(root.GetNumberOfBlocks()):
         body = root.GetBlock(k)
+        name = root.GetMetaData(k).Get(vtk.vtkCompositeDataSet.NAME())
+        names.append(name)
+        if args.body is not None and name != args.body:
+            continue
         if body is not None and body.IsA("vtkMultiBlockDataSet"):
             for j in range(body.GetNumberOfBlocks()):
                 if body.GetMetaData(j).Get(vtk.vtkCompositeDataSet.NAME()) == "particles":
                     grids.append(body.GetBlock(j))
     if not grids:
+        if args.body is not None:
+            sys.exit(f"{frames[-1]} has no deformable body {args.body!r} (bodies: {', '.join(map(str, names))})")
         sys.exit(f"{frames[-1]} has no particles block")
 
     def field(name):
