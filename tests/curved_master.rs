@@ -13,27 +13,22 @@
 //! pdcontact must see the same turn: a build that pushed every contact along the axis read the
 //! ball's pressure flatter than the plane's on the finer meshes of that section.
 
-use std::path::{Path, PathBuf};
+mod common;
 
 use pdcontact::output::analysis::{contact_patch, elliptic_accuracy, hertz_sphere};
-use pdcontact::run::{run_scene, RunOptions};
-use pdcontact::scene::Scene;
 
 const YOUNGS: f64 = 1e9;
 const POISSON: f64 = 0.25;
 const A: f64 = 0.3;
 
+/// A stored mesh's path as a TOML string.
 fn mesh(name: &str) -> String {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("meshes")
-        .join(name);
-    format!("{:?}", p.display().to_string())
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pdcontact-curved-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
+    format!(
+        "{:?}",
+        common::repo(&format!("meshes/{name}"))
+            .display()
+            .to_string()
+    )
 }
 
 /// (fitted peak / p0 − 1, fitted radius / a − 1, MRE) of the sphere pressed by `master`
@@ -97,18 +92,8 @@ keep = "positive"
         sphere = mesh("two_spheres_lower_h006.msh"),
         quarter = -load / 4.0,
     );
-    let dir = temp_dir(name);
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).expect("scene written");
-    let scene = Scene::load(&path).expect("scene reads");
-    let options = RunOptions {
-        output: Some(dir.join("out")),
-        quiet: true,
-        stop: None,
-        comm: None,
-    };
-    let (model, summary) = run_scene(&scene, &options).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let _ = std::fs::remove_dir_all(&dir);
+    let (model, summary) = common::try_run_text(&text, &format!("curved-{name}"))
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
     assert!(summary.converged, "{name}: residual {}", summary.residual);
     assert_eq!(summary.missed_contacts, 0, "{name}");
     let sphere = model
