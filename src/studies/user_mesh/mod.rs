@@ -209,7 +209,7 @@ fn high_poisson_warning(nu: f64, skin: bool, spacings: f64, sphere: bool) -> Opt
     let held = if sphere {
         format!("at ν = 0.4 a sphere's held from a/Δ = {HIGH_POISSON_SPACINGS} (tet4 7.5, tet10 with every node 7.0, hexes 8.5), and this contact spans {spacings:.1}")
     } else {
-        "a roller's stayed narrow at a/Δ = 9-9.6 (radius 3.2-3.8 % short)".to_string()
+        "a roller's stayed narrow at a/Δ = 9-9.6 (radius 3.2-3.8 % short), and met them from a/Δ = 7 with `--influence position-aware --skin-correction false`".to_string()
     };
     let what = if skin {
         format!("with the skin correction the contact comes out narrow and high: at ν = 0.4 on gmsh-default tet4, tet10 and tets-split-into-hexes spheres at a/Δ = 5.5-7, radius 2.5-4.8 % short, MRE 2.2-5.0 %, peak up to +9 %; without it (`--skin-correction false --influence position-aware`) wide on tets (radius +3-4 %); {held}")
