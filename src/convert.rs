@@ -175,10 +175,34 @@ pub fn convert(
     let spacing = options.spacing;
     let mesh = read_path(mesh_path, format)?;
     let import = start.elapsed().as_secs_f64();
-    let case = PdCase::build(mesh, options).map_err(|e| match e {
-        Error::Input(msg) => Error::input(format!("{}: {msg}", mesh_path.display())),
-        other => other,
-    })?;
+    let build = |mesh, options| {
+        PdCase::build(mesh, options).map_err(|e| match e {
+            Error::Input(msg) => Error::input(format!("{}: {msg}", mesh_path.display())),
+            other => other,
+        })
+    };
+    let given_factor = options.horizon_factor;
+    let mut case = build(mesh, options.clone())?;
+    // Where the horizon leaves a solid in pieces (elements longer than the bonds reach), the
+    // case written is the one that joins them: `run` would refuse the other.
+    if let Some(split) = case.split.clone() {
+        let options = CaseOptions {
+            horizon_factor: split.horizon_factor,
+            ..options
+        };
+        case = build(read_path(mesh_path, format)?, options)?;
+        if let Some(still) = &case.split {
+            return Err(Error::input(format!(
+                "{}: {}",
+                mesh_path.display(),
+                still.message(case.particles.spacing, case.horizon_factor)
+            )));
+        }
+        case.mesh.warnings.push(format!(
+            "with horizon factor {given_factor} the bonds cut the mesh's solids into {} more piece{} than they are (element {}: nodes {} and {}, {:.4e} m apart, beyond the bonds' reach); the case has horizon_factor = {}, the smallest that joins them (or mesh it finer where its elements are longest)",
+            split.extra_pieces, if split.extra_pieces == 1 { "" } else { "s" }, split.element, split.nodes[0], split.nodes[1], split.length, split.horizon_factor
+        ));
+    }
     std::fs::create_dir_all(out).map_err(|e| Error::output(out, e))?;
     let t = Instant::now();
     let skeleton = SkeletonLoad::choose(&case);

@@ -41,17 +41,7 @@ fn the_pieces_of_a_mesh_rest_on_each_other_and_carry_the_load_across() {
         text.contains("slave = \"part\"\nmaster = \"part\""),
         "{text}"
     );
-    let scene = pdcontact::scene::Scene::load(&case).expect("loads");
-    let (model, summary) = pdcontact::run::run_scene(
-        &scene,
-        &pdcontact::run::RunOptions {
-            output: Some(dir.join("out")),
-            quiet: true,
-            stop: None,
-            comm: None,
-        },
-    )
-    .expect("runs");
+    let (model, summary) = common::run_text_in(&text, &dir).expect("runs");
     let _ = std::fs::remove_dir_all(&dir);
     assert!(summary.converged);
     let pd = model.bodies[0].as_pd().expect("deformable");
@@ -147,4 +137,68 @@ fn nodes_on_top_of_each_other_are_refused_by_name() {
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("stacked.msh"), "{err}");
     assert!(err.contains("nodes on top of each other (node 5 and node 9 at [0.000000e0, 0.000000e0, 1.000000e0])"), "{err}");
+}
+
+/// A plate written by another tool (`hybrid_hexwedge.msh` of the shared corpus: 6,000 ×
+/// 6,000 × 100, one element through the thickness; a row of hexes 1,043 long beside cells of
+/// 500-700): one solid, but with the default horizon (3 Δ, Δ = 292) no bond spans the long
+/// hexes, and its bonds leave it in two pieces. `run` refuses it by that cause, naming the
+/// element and the horizon factor that joins them; `convert` writes that factor (before, it
+/// took the pieces for solids that share no node and wrote a contact between them, which
+/// pushed on faces inside the one solid: the run diverged, residual 6e2 after 100,000
+/// iterations).
+#[test]
+fn a_solid_that_the_horizon_leaves_in_pieces_is_refused_and_convert_joins_it() {
+    let mesh =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/msh/hybrid_hexwedge.msh");
+    if !mesh.exists() {
+        common::skipped("the horizon's pieces", "no shared corpus");
+        return;
+    }
+    let dir = common::temp_dir("pieces-horizon");
+    let out = Command::new(env!("CARGO_BIN_EXE_pdcontact"))
+        .args(["convert", "-o"])
+        .arg(dir.join("case"))
+        .arg(&mesh)
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("with horizon factor 3 the bonds cut the mesh's solids into 1 more piece")
+            && err.contains("the case has horizon_factor = 3.2"),
+        "{err}"
+    );
+    let case = dir.join("case/case.toml");
+    let text = std::fs::read_to_string(&case).expect("case");
+    assert!(text.contains("horizon_factor = 3.2 "), "{text}");
+    assert!(!text.contains("master = \"part\""), "{text}");
+    // The case as written, from its own folder (its mesh path is relative to it).
+    let (model, summary) = common::run_text_in(&text, &dir.join("case")).expect("runs");
+    assert!(summary.converged);
+    assert!(
+        summary.force_balance_error < 1e-3,
+        "{}",
+        summary.force_balance_error
+    );
+    let pd = model.bodies[0].as_pd().expect("deformable");
+    assert_eq!(pd.case.bonds.components(|_| true).1.len(), 1);
+
+    // The default horizon: refused before the first step, by its cause.
+    std::fs::write(
+        &case,
+        text.replace("horizon_factor = 3.2 ", "horizon_factor = 3 "),
+    )
+    .expect("edited");
+    let scene = pdcontact::scene::Scene::load(&case).expect("loads");
+    let Err(err) = pdcontact::run::check_scene(&scene) else {
+        panic!("a solid in pieces was not refused");
+    };
+    let err = err.to_string();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        err.contains("element 28 joins nodes 37 and 38, 1.0434e3 m apart")
+            && err.contains("Set horizon_factor = 3.2"),
+        "{err}"
+    );
 }

@@ -30,6 +30,7 @@ pub mod skin;
 pub mod spacing;
 pub mod surface;
 pub mod surface_layer;
+pub mod unbonded;
 
 use std::time::Instant;
 
@@ -435,6 +436,8 @@ pub struct PdCase {
     /// Whether the mesh had second-order elements to split and was first-order tets and
     /// hexes alone, where its elements were let go ([`PdCase::release_elements`]).
     pub elements_released: Option<[bool; 2]>,
+    /// Where the bonds leave a solid of the mesh in pieces ([`unbonded`]; `run` refuses it).
+    pub split: Option<unbonded::SolidSplit>,
     pub times: StageTimes,
 }
 
@@ -546,6 +549,14 @@ impl PdCase {
             }
         };
         drop(all_faces);
+        // Element pairs that the bonds may not reach (beyond ¾ of their uniform reach: a
+        // hex's diagonals stay below), to find the solids that the horizon leaves in pieces.
+        let long_pairs = unbonded::long_pairs(
+            &mesh,
+            &particles.particle_of_node,
+            &particles.position,
+            0.75 * (options.horizon_factor + 0.5) * spacing,
+        );
         // Particles, faces and volumes are made: what the model reads of the mesh from here
         // on is its nodes and its sets.
         let (mesh, elements_released) = if options.keep_elements {
@@ -649,10 +660,19 @@ impl PdCase {
         let completed = particles.completed_volume();
         // The pieces no bond joins (solids of the mesh that share no node), each particle's
         // and each image's; one piece, or a decomposed run's rows of one rank, none.
+        let mut split = None;
         let piece: Vec<u32> = match &part {
             None => {
                 let (label, sizes) = bonds.components(|_| true);
                 if sizes.len() > 1 {
+                    split = unbonded::split(
+                        &long_pairs,
+                        &bonds,
+                        &label,
+                        &mesh.node_ids,
+                        &particles.node,
+                        spacing,
+                    );
                     (0..position.len())
                         .map(|j| label[ghosts.source_of(j, particles.len())])
                         .collect()
@@ -749,6 +769,7 @@ impl PdCase {
             ghosts,
             part,
             elements_released,
+            split,
             times,
         })
     }

@@ -6,7 +6,7 @@ use crate::body::Body;
 use crate::case::segments::quad_area_normal;
 use crate::contact::overlap::overlap;
 use crate::contact::{MasterView, WINDOW};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::model::Model;
 use crate::scene::{num, Scene};
@@ -17,7 +17,24 @@ pub(super) fn check_model(scene: &Scene, model: &Model) -> Result<()> {
     check_planes(scene, model)?;
     check_plane_sides(scene, model)?;
     check_overlaps(scene, model)?;
+    check_split(model)?;
     super::held::check_held(scene, model)
+}
+
+/// Refuses a body whose bonds leave a solid of its mesh in pieces: an element longer than
+/// the bonds reach ([`crate::case::unbonded`]). Its pieces would pass through each other,
+/// and a contact of the body with itself would push on faces inside one solid.
+fn check_split(model: &Model) -> Result<()> {
+    for pd in model.bodies.iter().filter_map(|b| b.as_pd()) {
+        if let Some(split) = &pd.case.split {
+            return Err(Error::input(format!(
+                "body \"{}\": {}",
+                pd.name,
+                split.message(pd.spacing(), pd.case.horizon_factor)
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Whether the `k`-th body of the scene is a generated rigid plane.

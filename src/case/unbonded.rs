@@ -1,0 +1,155 @@
+//! Solids that the horizon leaves in pieces: an element longer than the bonds reach.
+//!
+//! A bond joins two particles within the horizon δ (plus half a spacing, Eq. 10), whatever
+//! the mesh says; the mesh's elements join their nodes whatever their length. Where an
+//! element is longer than the bonds reach (a coarse element beside fine ones, a thin plate's
+//! long cells) one solid of the mesh falls into pieces that no bond joins. Such pieces are not
+//! the mesh's own pieces (solids that share no node, which a `[[contact]]` of the body with
+//! itself keeps apart): they pass through each other, or a contact between them pushes on
+//! faces that are one solid, and the run does not settle. The case notes where it happens
+//! ([`SolidSplit`]) and the horizon factor that would join them; `run` refuses the body with
+//! that cause, and `convert` writes that factor.
+
+use crate::case::neighbours::BondList;
+use crate::math::{Vec3, NOT_A_PARTICLE};
+use pdcontact_importers::Mesh;
+
+/// Two particles that share a solid element, farther apart than the bonds surely reach.
+#[derive(Clone, Copy, Debug)]
+pub struct LongPair {
+    pub a: u32,
+    pub b: u32,
+    pub length: f64,
+    /// The element's number in the mesh file.
+    pub element: u64,
+}
+
+/// Where one solid of the mesh is in pieces that no bond joins.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolidSplit {
+    /// The longest element pair (mesh node numbers) that the joining needs.
+    pub nodes: [u64; 2],
+    /// Its element's number in the mesh file.
+    pub element: u64,
+    /// Its length, m.
+    pub length: f64,
+    /// How many more pieces the bonds leave than the mesh's solids are.
+    pub extra_pieces: usize,
+    /// The smallest horizon factor (a tenth above) whose bonds reach every such pair.
+    pub horizon_factor: f64,
+}
+
+impl SolidSplit {
+    /// What `run` says when it refuses the body.
+    pub fn message(&self, spacing: f64, horizon_factor: f64) -> String {
+        format!(
+            "the bonds cut its mesh's solids into {} more piece{} than they are: element {} joins nodes {} and {}, {:.4e} m apart, beyond the bonds' reach (horizon δ = {:.4e} m: spacing Δ = {spacing:.4e} m × horizon factor {horizon_factor}, plus Δ/2); the pieces would pass through each other. Set horizon_factor = {} in its [[body]] (the smallest that joins them; `pdcontact convert` writes it), or mesh it finer where its elements are longest",
+            self.extra_pieces,
+            if self.extra_pieces == 1 { "" } else { "s" },
+            self.element,
+            self.nodes[0],
+            self.nodes[1],
+            self.length,
+            horizon_factor * spacing,
+            self.horizon_factor
+        )
+    }
+}
+
+/// The pairs of particles in one solid element longer than `beyond`, before the elements are
+/// let go: none on a mesh whose elements the horizon spans (`beyond`: ¾ of the bonds' reach).
+pub fn long_pairs(
+    mesh: &Mesh,
+    particle_of_node: &[u32],
+    position: &[Vec3],
+    beyond: f64,
+) -> Vec<LongPair> {
+    let mut out = Vec::new();
+    let mut ps = Vec::new();
+    for e in mesh.solids() {
+        ps.clear();
+        // Particles are corner nodes (mid-side ones may be missing: `MISSING_NODE`).
+        ps.extend(
+            e.corners()
+                .iter()
+                .filter_map(|&n| particle_of_node.get(n as usize).copied())
+                .filter(|&p| p != NOT_A_PARTICLE),
+        );
+        for (k, &a) in ps.iter().enumerate() {
+            for &b in &ps[k + 1..] {
+                let length = (position[a as usize] - position[b as usize]).norm();
+                if length > beyond && a != b {
+                    out.push(LongPair {
+                        a: a.min(b),
+                        b: a.max(b),
+                        length,
+                        element: e.id,
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The split of the mesh's solids by the bonds, if any: the pairs of `pairs` whose particles
+/// the bonds leave in different pieces (`label`, [`BondList::components`]), particles without
+/// any bond left to the solver's own message. The horizon factor that joins them: the longest
+/// pair that joining every piece to its element's neighbours needs (Kruskal over the pairs).
+pub fn split(
+    pairs: &[LongPair],
+    bonds: &BondList,
+    label: &[u32],
+    node_ids: &[u64],
+    particle_node: &[u32],
+    spacing: f64,
+) -> Option<SolidSplit> {
+    let bonded = |p: u32| !bonds.range(p as usize).is_empty();
+    let mut across: Vec<&LongPair> = pairs
+        .iter()
+        .filter(|q| label[q.a as usize] != label[q.b as usize] && bonded(q.a) && bonded(q.b))
+        .collect();
+    if across.is_empty() {
+        return None;
+    }
+    // Shortest first, the same order on any run.
+    across.sort_by(|x, y| {
+        x.length
+            .total_cmp(&y.length)
+            .then(x.a.cmp(&y.a))
+            .then(x.b.cmp(&y.b))
+    });
+    let pieces = label.iter().copied().max().map_or(0, |m| m as usize + 1);
+    let mut parent: Vec<u32> = (0..pieces as u32).collect();
+    fn root(parent: &mut [u32], mut a: usize) -> usize {
+        while parent[a] as usize != a {
+            parent[a] = parent[parent[a] as usize];
+            a = parent[a] as usize;
+        }
+        a
+    }
+    let mut joined = 0;
+    let mut last = across[0];
+    for q in &across {
+        let (la, lb) = (label[q.a as usize], label[q.b as usize]);
+        let (ra, rb) = (
+            root(&mut parent, la as usize),
+            root(&mut parent, lb as usize),
+        );
+        if ra != rb {
+            parent[ra.max(rb)] = ra.min(rb) as u32;
+            joined += 1;
+            last = q;
+        }
+    }
+    // Bonds reach (m + ½) Δ (Eq. 10): the factor a tenth above the one that reaches `last`.
+    let factor = ((last.length / spacing - 0.5) * 10.0).ceil() / 10.0 + 0.1;
+    let node = |p: u32| node_ids[particle_node[p as usize] as usize];
+    Some(SolidSplit {
+        nodes: [node(last.a), node(last.b)],
+        element: last.element,
+        length: last.length,
+        extra_pieces: joined,
+        horizon_factor: (factor * 10.0).round() / 10.0,
+    })
+}
