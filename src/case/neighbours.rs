@@ -179,21 +179,11 @@ impl BondList {
     pub fn components(&self, keep: impl Fn(usize) -> bool) -> (Vec<u32>, Vec<usize>) {
         let n = self.particles();
         let mut parent: Vec<u32> = (0..n as u32).collect();
-        fn root(parent: &mut [u32], mut a: usize) -> usize {
-            while parent[a] as usize != a {
-                parent[a] = parent[parent[a] as usize];
-                a = parent[a] as usize;
-            }
-            a
-        }
         for i in 0..n {
             for b in self.range(i) {
                 let j = self.partner[b] as usize;
                 if j < n && j > i && keep(b) {
-                    let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
-                    if ri != rj {
-                        parent[ri.max(rj)] = ri.min(rj) as u32;
-                    }
+                    join(&mut parent, i, j);
                 }
             }
         }
@@ -268,6 +258,25 @@ impl BondList {
             + self.partner.len() * std::mem::size_of::<u32>()
             + self.length.len() * std::mem::size_of::<f32>()
     }
+}
+
+/// The root of `a`'s group in a union-find forest `parent` (paths halved on the way).
+pub(crate) fn root(parent: &mut [u32], mut a: usize) -> usize {
+    while parent[a] as usize != a {
+        parent[a] = parent[parent[a] as usize];
+        a = parent[a] as usize;
+    }
+    a
+}
+
+/// Joins the groups of `a` and `b` (the smaller root wins, so a group's root is its first
+/// member); whether they were apart.
+pub(crate) fn join(parent: &mut [u32], a: usize, b: usize) -> bool {
+    let (ra, rb) = (root(parent, a), root(parent, b));
+    if ra != rb {
+        parent[ra.max(rb)] = ra.min(rb) as u32;
+    }
+    ra != rb
 }
 
 /// All pairs `(i, j)`, `i ≠ j`, with `|x_j − x_i| ≤ radius`, partners sorted by index.

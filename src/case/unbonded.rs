@@ -10,7 +10,7 @@
 //! ([`SolidSplit`]) and the horizon factor that would join them; `run` refuses the body with
 //! that cause, and `convert` writes that factor.
 
-use crate::case::neighbours::BondList;
+use crate::case::neighbours::{join, BondList};
 use crate::math::{Vec3, NOT_A_PARTICLE};
 use pdcontact_importers::Mesh;
 
@@ -78,7 +78,7 @@ pub fn long_pairs(
         for (k, &a) in ps.iter().enumerate() {
             for &b in &ps[k + 1..] {
                 let length = (position[a as usize] - position[b as usize]).norm();
-                if length > beyond && a != b {
+                if length > beyond {
                     out.push(LongPair {
                         a: a.min(b),
                         b: a.max(b),
@@ -121,35 +121,26 @@ pub fn split(
     });
     let pieces = label.iter().copied().max().map_or(0, |m| m as usize + 1);
     let mut parent: Vec<u32> = (0..pieces as u32).collect();
-    fn root(parent: &mut [u32], mut a: usize) -> usize {
-        while parent[a] as usize != a {
-            parent[a] = parent[parent[a] as usize];
-            a = parent[a] as usize;
-        }
-        a
-    }
     let mut joined = 0;
     let mut last = across[0];
     for q in &across {
-        let (la, lb) = (label[q.a as usize], label[q.b as usize]);
-        let (ra, rb) = (
-            root(&mut parent, la as usize),
-            root(&mut parent, lb as usize),
-        );
-        if ra != rb {
-            parent[ra.max(rb)] = ra.min(rb) as u32;
+        if join(
+            &mut parent,
+            label[q.a as usize] as usize,
+            label[q.b as usize] as usize,
+        ) {
             joined += 1;
             last = q;
         }
     }
-    // Bonds reach (m + ½) Δ (Eq. 10): the factor a tenth above the one that reaches `last`.
-    let factor = ((last.length / spacing - 0.5) * 10.0).ceil() / 10.0 + 0.1;
+    // Bonds reach (m + ½) Δ (Eq. 10): in tenths, one above the factor that reaches `last`.
+    let tenths = ((last.length / spacing - 0.5) * 10.0).ceil() + 1.0;
     let node = |p: u32| node_ids[particle_node[p as usize] as usize];
     Some(SolidSplit {
         nodes: [node(last.a), node(last.b)],
         element: last.element,
         length: last.length,
         extra_pieces: joined,
-        horizon_factor: (factor * 10.0).round() / 10.0,
+        horizon_factor: tenths / 10.0,
     })
 }
