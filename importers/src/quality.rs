@@ -92,8 +92,11 @@ fn duplicate_nodes(mesh: &Mesh) -> Option<String> {
     ))
 }
 
-/// Solid elements in pieces that share no node.
-fn disconnected_pieces(mesh: &Mesh) -> Option<String> {
+/// The pieces of a mesh's solid elements that share no node: each node's piece (numbered
+/// from 0 in the order of each piece's first solid element), [`NO_PIECE`] for a node that no
+/// solid uses, and the number of pieces. Two pieces are two solids, whatever lies between
+/// them: touching, they are not joined.
+pub fn solid_pieces(mesh: &Mesh) -> (Vec<u32>, usize) {
     let mut parent: Vec<u32> = (0..mesh.node_count() as u32).collect();
     fn find(parent: &mut [u32], mut x: u32) -> u32 {
         while parent[x as usize] != x {
@@ -103,36 +106,49 @@ fn disconnected_pieces(mesh: &Mesh) -> Option<String> {
         }
         x
     }
-    let solids: Vec<_> = mesh.solids().collect();
-    for e in &solids {
-        let nodes = e.nodes;
-        let Some(&first) = nodes.first() else {
+    let nodes_in_mesh = parent.len();
+    let in_range = move |n: &&u32| (**n as usize) < nodes_in_mesh;
+    for e in mesh.solids() {
+        let mut nodes = e.nodes.iter().filter(in_range);
+        let Some(&first) = nodes.next() else {
             continue;
         };
-        if first as usize >= parent.len() {
-            continue;
-        }
         let a = find(&mut parent, first);
-        for &n in &nodes[1..] {
-            if (n as usize) < parent.len() {
-                let b = find(&mut parent, n);
-                if a != b {
-                    parent[b as usize] = a;
-                }
+        for &n in nodes {
+            let b = find(&mut parent, n);
+            if a != b {
+                parent[b as usize] = a;
             }
         }
     }
+    let mut label = vec![NO_PIECE; nodes_in_mesh];
+    let mut of_root: HashMap<u32, u32> = HashMap::new();
+    for e in mesh.solids() {
+        for &n in e.nodes.iter().filter(in_range) {
+            let root = find(&mut parent, n);
+            let next = of_root.len() as u32;
+            label[n as usize] = *of_root.entry(root).or_insert(next);
+        }
+    }
+    (label, of_root.len())
+}
+
+/// The piece of a node that no solid element uses ([`solid_pieces`]).
+pub const NO_PIECE: u32 = u32::MAX;
+
+/// Solid elements in pieces that share no node.
+fn disconnected_pieces(mesh: &Mesh) -> Option<String> {
+    let (label, count) = solid_pieces(mesh);
+    if count < 2 {
+        return None;
+    }
     // Elements per piece, and the first element id of each.
     let mut pieces: HashMap<u32, (usize, u64)> = HashMap::new();
-    for e in &solids {
-        let Some(&first) = e.nodes.first() else {
+    for e in mesh.solids() {
+        let Some(&piece) = e.nodes.iter().find_map(|&n| label.get(n as usize)) else {
             continue;
         };
-        if first as usize >= parent.len() {
-            continue;
-        }
-        let root = find(&mut parent, first);
-        let entry = pieces.entry(root).or_insert((0, e.id));
+        let entry = pieces.entry(piece).or_insert((0, e.id));
         entry.0 += 1;
     }
     if pieces.len() < 2 {

@@ -557,6 +557,7 @@ impl PdCase {
             &particles.position,
             0.75 * (options.horizon_factor + 0.5) * spacing,
         );
+        let mesh_pieces = unbonded::mesh_pieces(&mesh, &particles.node);
         // Particles, faces and volumes are made: what the model reads of the mesh from here
         // on is its nodes and its sets.
         let (mesh, elements_released) = if options.keep_elements {
@@ -624,9 +625,9 @@ impl PdCase {
             }
         };
         let owned = part.as_ref().map_or(0..n, CasePart::owned);
-        // A slot, notch or crack the mesh has, narrower than the horizon: the bonds across
-        // it go, before the corrections see its faces.
-        let across_gaps = sight::bonds_across_gaps(
+        // A slot, notch or crack the mesh has, narrower than the horizon, and where the
+        // mesh's pieces touch: the bonds across go, before the corrections see its faces.
+        let gaps = sight::bonds_across_gaps(
             &faces,
             &mesh.coords,
             &ghosts,
@@ -635,19 +636,17 @@ impl PdCase {
             reach,
             spacing,
         );
+        let across_gaps =
+            unbonded::and_between_pieces(gaps, &bonds, mesh_pieces.as_deref(), &ghosts);
         let bonds = if across_gaps.is_empty() {
             bonds
         } else {
             bonds.without(&across_gaps)
         };
         sight::refuse_coincident(&bonds, &owned, &particles, &mesh, part.as_ref())?;
-        let bonds_across_gaps = across_gaps
-            .iter()
-            .filter(|&&(i, _)| owned.contains(&(i as usize)))
-            .count();
-        let bonds_across_gaps = part
-            .as_ref()
-            .map_or(bonds_across_gaps, |p| p.total(bonds_across_gaps));
+        let mine = |i: &&(u32, u32)| owned.contains(&(i.0 as usize));
+        let cut = across_gaps.iter().filter(mine).count();
+        let bonds_across_gaps = part.as_ref().map_or(cut, |p| p.total(cut));
         if let Some(p) = &mut part {
             let mine = bonds.offsets[owned.end] - bonds.offsets[owned.start];
             p.bonds = p.total(mine);

@@ -9,10 +9,58 @@
 //! faces that are one solid, and the run does not settle. The case notes where it happens
 //! ([`SolidSplit`]) and the horizon factor that would join them; `run` refuses the body with
 //! that cause, and `convert` writes that factor.
+//!
+//! The mesh's own pieces are never joined: two solids that touch (a roller on a block, meshed
+//! each on its own) are two solids, as for an FE code, and a bond between them would glue
+//! them where they touch ([`between_pieces`]).
+
+use rayon::prelude::*;
 
 use crate::case::neighbours::{join, BondList};
+use crate::case::Ghosts;
 use crate::math::{Vec3, NOT_A_PARTICLE};
-use pdcontact_importers::Mesh;
+use pdcontact_importers::{solid_pieces, Mesh};
+
+/// Each particle's piece of the mesh (its solids that share no node), or `None` where the
+/// mesh is one piece. `node`: each particle's mesh node.
+pub fn mesh_pieces(mesh: &Mesh, node: &[u32]) -> Option<Vec<u32>> {
+    let (label, count) = solid_pieces(mesh);
+    (count > 1).then(|| node.iter().map(|&k| label[k as usize]).collect())
+}
+
+/// `across_gaps` (`(particle, bond)`, [`crate::case::sight::bonds_across_gaps`]) and the bonds
+/// between particles of different pieces of the mesh (a bond to a mirror image by its
+/// source's piece), each once. The bonds reach across a gap narrower than the
+/// horizon, and where two pieces touch no gap cuts them ([`crate::case::sight`] cuts bonds
+/// that leave the body and enter it again): a roller meshed apart from the block it lies on
+/// was glued to it along their line of contact, and the pieces, one to the bonds, were not
+/// kept apart by a contact.
+pub fn and_between_pieces(
+    mut across_gaps: Vec<(u32, u32)>,
+    bonds: &BondList,
+    piece: Option<&[u32]>,
+    ghosts: &Ghosts,
+) -> Vec<(u32, u32)> {
+    let Some(piece) = piece else {
+        return across_gaps;
+    };
+    let n = bonds.particles();
+    let between: Vec<(u32, u32)> = (0..n)
+        .into_par_iter()
+        .flat_map_iter(|i| {
+            bonds.range(i).filter_map(move |b| {
+                let j = ghosts.source_of(bonds.partner[b] as usize, n);
+                // Nodes on top of each other are left to `sight::refuse_coincident`.
+                let apart = bonds.length(b) > 0.0;
+                (apart && piece[j] != piece[i]).then_some((i as u32, b as u32))
+            })
+        })
+        .collect();
+    across_gaps.extend(between);
+    across_gaps.sort_unstable();
+    across_gaps.dedup();
+    across_gaps
+}
 
 /// Two particles that share a solid element, farther apart than the bonds surely reach.
 #[derive(Clone, Copy, Debug)]
