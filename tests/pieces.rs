@@ -246,3 +246,119 @@ fn a_solid_that_the_horizon_leaves_in_pieces_is_refused_and_convert_joins_it() {
         "{err}"
     );
 }
+
+/// The roller and the block of `meshes/roller_on_block.msh` as two bodies of one file, each
+/// the solids of its physical volume (`elements = "roller"`, `"block"`), the roller three
+/// times as stiff, pressed on the block through a two-pass contact.
+fn assembly(roller_elements: &str) -> String {
+    let mesh = concat!(env!("CARGO_MANIFEST_DIR"), "/meshes/roller_on_block.msh");
+    format!(
+        r#"[solver]
+kind = "adr"
+tolerance = 1e-4
+max_iterations = 30000
+
+[output]
+folder = "out"
+every = 100000
+
+[[body]]
+name = "block"
+mesh = "{mesh}"
+elements = "block"
+kinematics = "small"
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+
+[[body]]
+name = "roller"
+mesh = "{mesh}"
+elements = "{roller_elements}"
+kinematics = "small"
+[body.material]
+youngs_modulus = 3e9
+poisson_ratio = 0.25
+density = 1000.0
+
+[[load]]
+body = "roller"
+force = [0.0, 0.0, -4e4]
+
+[[symmetry]]
+body = "block"
+axis = "z"
+at = -0.5
+keep = "positive"
+
+[[constraint]]
+body = "roller"
+nearest = [0.0, 0.0, 0.3]
+fix = ["x", "y"]
+
+[[constraint]]
+body = "roller"
+nearest = [0.0, 0.5, 0.3]
+fix = ["x"]
+
+[[constraint]]
+body = "block"
+nearest = [0.0, 0.0, -0.5]
+fix = ["x", "y"]
+
+[[constraint]]
+body = "block"
+nearest = [1.0, 0.0, -0.5]
+fix = ["y"]
+
+[[contact]]
+slave = "roller"
+master = "block"
+"#
+    )
+}
+
+/// An assembly meshed in one file, each part a body of its own (`elements`): each body holds
+/// the particles of its part alone, in one piece, and the contact between them carries the load.
+#[test]
+fn the_parts_of_one_mesh_file_are_bodies_of_their_own() {
+    let (model, summary) = common::run_text(&assembly("roller"), "pieces-parts");
+    assert!(summary.converged);
+    let [block, roller] = [0, 1].map(|k| model.bodies[k].as_pd().expect("deformable"));
+    // The parts' particles are the file's (`convert` of the whole: 1,726), each where its part
+    // lies: the block below z = 0, the roller within its radius of its axis.
+    assert_eq!(block.len() + roller.len(), 1726);
+    assert!((0..block.len()).all(|i| block.reference[i].z <= 1e-9));
+    assert!((0..roller.len()).all(|i| {
+        let x = roller.reference[i];
+        (x.x * x.x + (x.z - 0.3) * (x.z - 0.3)).sqrt() <= 0.3 + 1e-9
+    }));
+    for pd in [block, roller] {
+        assert_eq!(pd.case.bonds.components(|_| true).1.len(), 1);
+    }
+    // No warning of a body in pieces: the file's pieces are its parts.
+    assert!(
+        summary.warnings.iter().all(|w| !w.contains("pieces")),
+        "{:?}",
+        summary.warnings
+    );
+    // The contact carries the roller's load (measured 2.6e-5 apart).
+    let contact: f64 = (0..roller.len()).map(|i| roller.contact_force[i].z).sum();
+    assert!(((contact - 4e4) / 4e4).abs() < 1e-3, "contact {contact}");
+}
+
+#[test]
+fn a_part_that_the_mesh_does_not_name_is_refused_with_the_names_it_has() {
+    let err = match common::try_run_text(&assembly("rollers"), "pieces-no-part") {
+        Err(e) => e.to_string(),
+        Ok(_) => panic!("no set \"rollers\": the run must fail"),
+    };
+    for needle in [
+        "scene.toml:",
+        "elements = \"rollers\" is not a set of the mesh",
+        "\"block\", \"roller\"",
+    ] {
+        assert!(err.contains(needle), "{needle:?} not in: {err}");
+    }
+}

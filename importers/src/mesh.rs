@@ -393,6 +393,88 @@ impl Mesh {
         nodes
     }
 
+    /// The elements `keep` accepts and the nodes they use (numbers, coordinates, in their
+    /// order here), the named sets restricted to them, the warnings: a part of the mesh.
+    pub fn retain_elements(&self, mut keep: impl FnMut(ElementRef<'_>) -> bool) -> Mesh {
+        let mut out = Mesh::new();
+        let mut new_index = vec![u32::MAX; self.node_count()];
+        let mut kept_elements = vec![u32::MAX; self.element_count()];
+        for e in self.elements() {
+            if !keep(e) {
+                continue;
+            }
+            let nodes: Vec<u32> = e
+                .nodes
+                .iter()
+                .map(|&n| {
+                    if n == MISSING_NODE {
+                        return n;
+                    }
+                    if new_index[n as usize] == u32::MAX {
+                        new_index[n as usize] =
+                            out.push_node(self.node_ids[n as usize], self.coords[n as usize]);
+                    }
+                    new_index[n as usize]
+                })
+                .collect();
+            kept_elements[e.index as usize] = out.push_element(e.id, e.kind, &nodes);
+        }
+        for s in &self.sets {
+            let mut set = s.clone();
+            let kept = |list: &mut Vec<u32>, map: &[u32]| {
+                *list = list
+                    .iter()
+                    .map(|&k| map[k as usize])
+                    .filter(|&k| k != u32::MAX)
+                    .collect();
+                list.sort_unstable();
+            };
+            if let Some(nodes) = &mut set.nodes {
+                kept(nodes, &new_index);
+            }
+            if let Some(elements) = &mut set.elements {
+                kept(elements, &kept_elements);
+            }
+            out.sets.push(set);
+        }
+        out.warnings = self.warnings.clone();
+        out
+    }
+
+    /// The solid elements of `set` (a physical volume, a component, an `*ELSET`), the
+    /// elements of lower dimension on their nodes alone (faces a load or a support names), and
+    /// those nodes: one body of an assembly meshed in one file. `None` where the set holds no
+    /// solid element.
+    pub fn solids_of(&self, set: &NamedSet) -> Option<Mesh> {
+        let mut chosen = vec![false; self.element_count()];
+        for &e in set.elements.iter().flatten() {
+            chosen[e as usize] = self.element_kinds[e as usize].is_solid();
+        }
+        let mut used = vec![false; self.node_count()];
+        for e in self.solids().filter(|e| chosen[e.index as usize]) {
+            for &n in e.nodes.iter().filter(|&&n| n != MISSING_NODE) {
+                used[n as usize] = true;
+            }
+        }
+        chosen.iter().any(|&c| c).then(|| {
+            let mut part = self.retain_elements(|e| {
+                if e.kind.is_solid() {
+                    chosen[e.index as usize]
+                } else {
+                    e.nodes
+                        .iter()
+                        .all(|&n| n == MISSING_NODE || used[n as usize])
+                }
+            });
+            // The quality checks are the part's (the whole file's pieces are its parts).
+            let whole = crate::quality::quality_warnings(self);
+            part.warnings.retain(|w| !whole.contains(w));
+            part.warnings
+                .extend(crate::quality::quality_warnings(&part));
+            part
+        })
+    }
+
     /// Whether each node is a corner of at least one 3D solid element.
     pub fn solid_corner_mask(&self) -> Vec<bool> {
         let mut mask = vec![false; self.node_count()];

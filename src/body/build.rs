@@ -51,8 +51,19 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
                 }),
             ));
         }
-        read_path(&path, format)?
+        let mesh = read_path(&path, format)?;
+        match &spec.elements {
+            Some(name) => solids_of(scene, spec, &mesh, name)?,
+            None => mesh,
+        }
     } else if let Some(g) = &spec.generator {
+        if let Some(name) = &spec.elements {
+            return Err(scene.error_in_body(
+                &spec.name,
+                "elements",
+                &format!("body \"{}\": elements = \"{}\" names a set of a mesh file, and a generated shape has none", spec.name, crate::scene::excerpt(name)),
+            ));
+        }
         // The scene has checked every dimension (scene/check.rs): each is there and positive.
         let need = |v: Option<f64>| v.expect("generator checked by the scene");
         let centre = Vec3::from(g.center.unwrap_or([0.0; 3]));
@@ -91,6 +102,45 @@ pub fn body_mesh(scene: &Scene, spec: &BodySpec) -> Result<Option<Mesh>> {
     transform(&mut mesh, spec);
     check_size(scene, spec, &mesh)?;
     Ok(Some(mesh))
+}
+
+/// The body's part of an assembly meshed in one file: the solids of the named set `name`
+/// (`elements = "..."`), or an error that names the sets that hold solids.
+fn solids_of(scene: &Scene, spec: &BodySpec, mesh: &Mesh, name: &str) -> Result<Mesh> {
+    let found = mesh.set(name).and_then(|set| mesh.solids_of(set));
+    found.ok_or_else(|| {
+        let with_solids: Vec<String> = mesh
+            .sets
+            .iter()
+            .filter(|s| {
+                s.elements
+                    .iter()
+                    .flatten()
+                    .any(|&e| mesh.element(e as usize).kind.is_solid())
+            })
+            .map(|s| format!("\"{}\"", s.name))
+            .collect();
+        let what = if mesh.set(name).is_some() {
+            "holds no solid element"
+        } else {
+            "is not a set of the mesh"
+        };
+        let sets = if with_solids.is_empty() {
+            "none of its sets holds solid elements (leave elements out: the body is every solid)"
+                .to_string()
+        } else {
+            format!("the sets that hold solids: {}", with_solids.join(", "))
+        };
+        scene.error_in_body(
+            &spec.name,
+            "elements",
+            &format!(
+                "body \"{}\": elements = \"{}\" {what}; {sets}",
+                spec.name,
+                crate::scene::excerpt(name)
+            ),
+        )
+    })
 }
 
 /// Body sizes that f64 holds with room to spare: element volumes go as L³ and bond stiffnesses
@@ -235,67 +285,28 @@ pub fn clip_mesh(
         }
     };
     let want = if keep_positive { 1 } else { -1 };
-    let mut out = Mesh::new();
-    let mut new_index = vec![u32::MAX; mesh.node_count()];
-    let mut kept_elements = vec![u32::MAX; mesh.element_count()];
-    for e in mesh.elements() {
-        let sides: Vec<i32> = e
-            .nodes
+    let sides = |e: &pdcontact_importers::ElementRef<'_>| -> Vec<i32> {
+        e.nodes
             .iter()
             .filter(|&&n| n != pdcontact_importers::MISSING_NODE)
             .map(|&n| side(n))
-            .collect();
-        let has = |s: i32| sides.contains(&s);
-        if has(1) && has(-1) {
-            return Err(format!(
-                "element {} crosses the symmetry plane {} = {at}: the mesh must be cut along the plane",
-                e.id,
-                ["x", "y", "z"][axis]
-            ));
-        }
-        if !has(want) && e.kind.is_solid() {
-            continue;
-        }
-        if !has(want) && !sides.iter().all(|&s| s == 0) {
-            continue;
-        }
-        let nodes: Vec<u32> = e
-            .nodes
-            .iter()
-            .map(|&n| {
-                if n == pdcontact_importers::MISSING_NODE {
-                    return n;
-                }
-                if new_index[n as usize] == u32::MAX {
-                    new_index[n as usize] =
-                        out.push_node(mesh.node_ids[n as usize], mesh.coords[n as usize]);
-                }
-                new_index[n as usize]
-            })
-            .collect();
-        kept_elements[e.index as usize] = out.push_element(e.id, e.kind, &nodes);
+            .collect()
+    };
+    if let Some(e) = mesh.elements().find(|e| {
+        let s = sides(e);
+        s.contains(&1) && s.contains(&-1)
+    }) {
+        return Err(format!(
+            "element {} crosses the symmetry plane {} = {at}: the mesh must be cut along the plane",
+            e.id,
+            ["x", "y", "z"][axis]
+        ));
     }
-    for s in &mesh.sets {
-        let mut set = s.clone();
-        if let Some(nodes) = &mut set.nodes {
-            *nodes = nodes
-                .iter()
-                .map(|&n| new_index[n as usize])
-                .filter(|&n| n != u32::MAX)
-                .collect();
-            nodes.sort_unstable();
-        }
-        if let Some(elements) = &mut set.elements {
-            *elements = elements
-                .iter()
-                .map(|&e| kept_elements[e as usize])
-                .filter(|&e| e != u32::MAX)
-                .collect();
-        }
-        out.sets.push(set);
-    }
-    out.warnings = mesh.warnings.clone();
-    Ok(out)
+    // A solid on the kept side; a face there or in the plane.
+    Ok(mesh.retain_elements(|e| {
+        let s = sides(&e);
+        s.contains(&want) || (!e.kind.is_solid() && s.iter().all(|&k| k == 0))
+    }))
 }
 
 /// Builds the body of a spec.

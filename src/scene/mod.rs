@@ -188,6 +188,8 @@ pub struct BodySpec {
     pub mesh: Option<PathBuf>,
     /// Force the mesh format (cdb, msh, inp).
     pub format: Option<String>,
+    /// The body is the solids of this named set of its mesh (one part of an assembly).
+    pub elements: Option<String>,
     /// A built-in shape instead of a mesh file.
     pub generator: Option<GeneratorSpec>,
     /// Applied after loading: scale, then rotate, then translate.
