@@ -656,7 +656,8 @@ fix = ["y"]
             r#"
 # The mesh is {} solids that share no node: one body whose pieces no bond joins. This keeps
 # them apart, each piece's surface particles against the other pieces' faces; without it they
-# would pass through each other (docs/guide/scene.md, "Contact").
+# would pass through each other (docs/guide/scene.md, "Contact"). To give a piece a material of
+# its own, make it a [[body]] of its own: this mesh with elements = "NAME" of its set.
 [[contact]]
 slave = "part"
 master = "part"
