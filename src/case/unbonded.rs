@@ -12,7 +12,7 @@
 //!
 //! The mesh's own pieces are never joined: two solids that touch (a roller on a block, meshed
 //! each on its own) are two solids, as for an FE code, and a bond between them would glue
-//! them where they touch ([`between_pieces`]).
+//! them where they touch ([`and_between_pieces`]).
 
 use rayon::prelude::*;
 
