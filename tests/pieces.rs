@@ -32,16 +32,11 @@ fn convert_mesh(mesh: &str, dir: &Path) -> PathBuf {
     dir.join("case.toml")
 }
 
-/// Whether particle `i` is of the upper cube (reference z from 1.1 m to 2.1 m).
-fn upper(pd: &PdBody, i: usize) -> bool {
-    pd.reference[i].z > 1.05
-}
-
-#[test]
-fn the_pieces_of_a_mesh_rest_on_each_other_and_carry_the_load_across() {
-    let dir = common::temp_dir("pieces");
-    let case = convert(&dir);
-    let text = std::fs::read_to_string(&case).expect("case");
+/// `convert` of `mesh` as written, then `run` of its case: the model, once the case is seen to
+/// hold the contact between the mesh's pieces and the run to converge.
+fn converted_and_run(mesh: &str, name: &str) -> pdcontact::model::Model {
+    let dir = common::temp_dir(name);
+    let text = std::fs::read_to_string(convert_mesh(mesh, &dir)).expect("case");
     assert!(
         text.contains("slave = \"part\"\nmaster = \"part\""),
         "{text}"
@@ -49,6 +44,32 @@ fn the_pieces_of_a_mesh_rest_on_each_other_and_carry_the_load_across() {
     let (model, summary) = common::run_text_in(&text, &dir).expect("runs");
     let _ = std::fs::remove_dir_all(&dir);
     assert!(summary.converged);
+    model
+}
+
+/// The contact across carries a piece's share of the load (by volume): its forces as a slave
+/// and its reactions as a master together, within 1e-3 of its load.
+fn assert_contact_carries_the_load(pd: &PdBody, in_piece: impl Fn(usize) -> bool) {
+    let (mut load, mut contact) = (0.0, 0.0);
+    for i in (0..pd.len()).filter(|&i| in_piece(i)) {
+        load += pd.load[i].z;
+        contact += pd.contact_force[i].z;
+    }
+    assert!(load < 0.0);
+    assert!(
+        ((contact + load) / load).abs() < 1e-3,
+        "contact {contact} against load {load}"
+    );
+}
+
+/// Whether particle `i` is of the upper cube (reference z from 1.1 m to 2.1 m).
+fn upper(pd: &PdBody, i: usize) -> bool {
+    pd.reference[i].z > 1.05
+}
+
+#[test]
+fn the_pieces_of_a_mesh_rest_on_each_other_and_carry_the_load_across() {
+    let model = converted_and_run(MESH, "pieces");
     let pd = model.bodies[0].as_pd().expect("deformable");
     let n = pd.len();
     // Every node of the two facing faces is a surface particle, though each face is nearer to
@@ -84,18 +105,8 @@ fn the_pieces_of_a_mesh_rest_on_each_other_and_carry_the_load_across() {
         upper_bottom < lower_top + 0.01,
         "the gap did not close: {upper_bottom} vs {lower_top}"
     );
-    // The contact across carries the upper cube's load (its share of the load by volume):
-    // its forces as a slave and its reactions as a master together.
-    let (mut load, mut contact) = (0.0, 0.0);
-    for i in (0..n).filter(|&i| upper(pd, i)) {
-        load += pd.load[i].z;
-        contact += pd.contact_force[i].z;
-    }
-    assert!(load < 0.0);
-    assert!(
-        ((contact + load) / load).abs() < 1e-3,
-        "contact {contact} against load {load}"
-    );
+    // The contact across carries the upper cube's load.
+    assert_contact_carries_the_load(pd, |i| upper(pd, i));
 }
 
 /// Two solids of one file that touch (`meshes/roller_on_block.msh`: a roller lying on a
@@ -106,16 +117,8 @@ fn the_pieces_of_a_mesh_rest_on_each_other_and_carry_the_load_across() {
 /// nodes off the surface.
 #[test]
 fn pieces_that_touch_are_not_glued_where_they_touch() {
-    let dir = common::temp_dir("pieces-touch");
     let mesh = concat!(env!("CARGO_MANIFEST_DIR"), "/meshes/roller_on_block.msh");
-    let text = std::fs::read_to_string(convert_mesh(mesh, &dir)).expect("case");
-    assert!(
-        text.contains("slave = \"part\"\nmaster = \"part\""),
-        "{text}"
-    );
-    let (model, summary) = common::run_text_in(&text, &dir).expect("runs");
-    let _ = std::fs::remove_dir_all(&dir);
-    assert!(summary.converged);
+    let model = converted_and_run(mesh, "pieces-touch");
     let pd = model.bodies[0].as_pd().expect("deformable");
     // No bond joins the two solids: two pieces, the roller the smaller.
     let (label, sizes) = pd.case.bonds.components(|_| true);
@@ -123,18 +126,8 @@ fn pieces_that_touch_are_not_glued_where_they_touch() {
     let roller = (sizes[1] < sizes[0]) as u32;
     // Every node of the mesh's boundary is a surface particle, the two facing faces' too.
     assert_eq!(pd.case.surface_agreement().missed, 0);
-    // The roller rests on the block through the contact alone: its share of the load (by
-    // volume) is what the contact carries (measured 1.4e-5 apart).
-    let (mut load, mut contact) = (0.0, 0.0);
-    for i in (0..pd.len()).filter(|&i| label[i] == roller) {
-        load += pd.load[i].z;
-        contact += pd.contact_force[i].z;
-    }
-    assert!(load < 0.0);
-    assert!(
-        ((contact + load) / load).abs() < 1e-3,
-        "contact {contact} against load {load}"
-    );
+    // The roller rests on the block through the contact alone (measured 1.4e-5 apart).
+    assert_contact_carries_the_load(pd, |i| label[i] == roller);
 }
 
 #[test]
