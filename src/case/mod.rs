@@ -557,7 +557,7 @@ impl PdCase {
             &particles.position,
             0.75 * (options.horizon_factor + 0.5) * spacing,
         );
-        let mesh_pieces = unbonded::mesh_pieces(&mesh, &particles.node);
+        let mesh_pieces = unbonded::mesh_pieces(&mesh, &particles.node, spacing);
         // Particles, faces and volumes are made: what the model reads of the mesh from here
         // on is its nodes and its sets.
         let (mesh, elements_released) = if options.keep_elements {
@@ -636,8 +636,7 @@ impl PdCase {
             reach,
             spacing,
         );
-        let across_gaps =
-            unbonded::and_between_pieces(gaps, &bonds, mesh_pieces.as_deref(), &ghosts);
+        let across_gaps = unbonded::and_between_pieces(gaps, &bonds, mesh_pieces.as_ref(), &ghosts);
         let bonds = if across_gaps.is_empty() {
             bonds
         } else {

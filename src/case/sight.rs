@@ -23,6 +23,9 @@ use crate::case::neighbours::{BondList, CellGrid};
 use crate::case::Ghosts;
 use crate::math::Vec3;
 
+/// Nodes closer than this many spacings are on top of each other ([`refuse_coincident`]).
+pub const COINCIDENT: f64 = 1e-6;
+
 /// The outward normals of the faces a bond leaves and re-enters the body by must be within
 /// this of opposite (`n_exit · n_entry < −cos 25°`): the two walls of a slot or a notch
 /// opening by less than 25°, the two faces of a meshed crack.
@@ -257,7 +260,7 @@ pub fn refuse_coincident(
     part: Option<&crate::case::part::CasePart>,
 ) -> crate::error::Result<()> {
     let n = particles.len();
-    let tiny = 1e-6 * particles.spacing;
+    let tiny = COINCIDENT * particles.spacing;
     let coincident = owned.clone().find_map(|i| {
         bonds
             .range(i)

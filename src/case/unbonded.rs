@@ -17,15 +17,27 @@
 use rayon::prelude::*;
 
 use crate::case::neighbours::{join, BondList};
+use crate::case::sight::COINCIDENT;
 use crate::case::Ghosts;
 use crate::math::{Vec3, NOT_A_PARTICLE};
 use pdcontact_importers::{solid_pieces, Mesh};
 
-/// Each particle's piece of the mesh (its solids that share no node), or `None` where the
-/// mesh is one piece. `node`: each particle's mesh node.
-pub fn mesh_pieces(mesh: &Mesh, node: &[u32]) -> Option<Vec<u32>> {
+/// The mesh's pieces (its solids that share no node), as the bonds see them.
+pub struct MeshPieces {
+    /// Each particle's piece.
+    pub label: Vec<u32>,
+    /// Bonds no longer than this join nodes on top of each other, which
+    /// [`crate::case::sight::refuse_coincident`] refuses by name: they are left to it.
+    pub coincident: f64,
+}
+
+/// The mesh's pieces, or `None` where the mesh is one piece. `node`: each particle's mesh node.
+pub fn mesh_pieces(mesh: &Mesh, node: &[u32], spacing: f64) -> Option<MeshPieces> {
     let (label, count) = solid_pieces(mesh);
-    (count > 1).then(|| node.iter().map(|&k| label[k as usize]).collect())
+    (count > 1).then(|| MeshPieces {
+        label: node.iter().map(|&k| label[k as usize]).collect(),
+        coincident: COINCIDENT * spacing,
+    })
 }
 
 /// `across_gaps` (`(particle, bond)`, [`crate::case::sight::bonds_across_gaps`]) and the bonds
@@ -38,10 +50,14 @@ pub fn mesh_pieces(mesh: &Mesh, node: &[u32]) -> Option<Vec<u32>> {
 pub fn and_between_pieces(
     mut across_gaps: Vec<(u32, u32)>,
     bonds: &BondList,
-    piece: Option<&[u32]>,
+    pieces: Option<&MeshPieces>,
     ghosts: &Ghosts,
 ) -> Vec<(u32, u32)> {
-    let Some(piece) = piece else {
+    let Some(MeshPieces {
+        label: piece,
+        coincident,
+    }) = pieces
+    else {
         return across_gaps;
     };
     let n = bonds.particles();
@@ -50,8 +66,7 @@ pub fn and_between_pieces(
         .flat_map_iter(|i| {
             bonds.range(i).filter_map(move |b| {
                 let j = ghosts.source_of(bonds.partner[b] as usize, n);
-                // Nodes on top of each other are left to `sight::refuse_coincident`.
-                let apart = bonds.length(b) > 0.0;
+                let apart = bonds.length(b) > *coincident;
                 (apart && piece[j] != piece[i]).then_some((i as u32, b as u32))
             })
         })
