@@ -113,12 +113,67 @@ fn the_pieces_of_a_mesh_rest_on_each_other_and_carry_the_load_across() {
 /// block, each meshed by gmsh's defaults, never fragmented) are not glued where they touch:
 /// no gap lies between them for the bonds to be cut at, and before, the bonds along their
 /// line of contact made them one piece to the model, which carried the roller's load
-/// through bonds, wrote no contact between the pieces, and left 168 of the facing faces'
-/// nodes off the surface.
+/// through bonds and left 168 of the facing faces' nodes off the surface. The file as one
+/// body, as a user who does not split it into its parts writes it.
 #[test]
 fn pieces_that_touch_are_not_glued_where_they_touch() {
     let mesh = concat!(env!("CARGO_MANIFEST_DIR"), "/meshes/roller_on_block.msh");
-    let model = converted_and_run(mesh, "pieces-touch");
+    let scene = format!(
+        r#"[solver]
+kind = "adr"
+tolerance = 1e-4
+max_iterations = 30000
+
+[output]
+folder = "out"
+every = 100000
+
+[[body]]
+name = "part"
+mesh = "{mesh}"
+kinematics = "small"
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+
+[[load]]
+body = "part"
+force = [0.0, 0.0, -2e5]
+
+[[symmetry]]
+body = "part"
+axis = "z"
+at = -0.5
+keep = "positive"
+
+[[constraint]]
+body = "part"
+nearest = [0.0, 0.0, 0.3]
+fix = ["x", "y"]
+
+[[constraint]]
+body = "part"
+nearest = [0.0, 0.5, 0.3]
+fix = ["x"]
+
+[[constraint]]
+body = "part"
+nearest = [0.0, 0.0, -0.5]
+fix = ["x", "y"]
+
+[[constraint]]
+body = "part"
+nearest = [1.0, 0.0, -0.5]
+fix = ["y"]
+
+[[contact]]
+slave = "part"
+master = "part"
+"#
+    );
+    let (model, summary) = common::run_text(&scene, "pieces-touch");
+    assert!(summary.converged);
     let pd = model.bodies[0].as_pd().expect("deformable");
     // No bond joins the two solids: two pieces, the roller the smaller.
     let (label, sizes) = pd.case.bonds.components(|_| true);
@@ -126,8 +181,43 @@ fn pieces_that_touch_are_not_glued_where_they_touch() {
     let roller = (sizes[1] < sizes[0]) as u32;
     // Every node of the mesh's boundary is a surface particle, the two facing faces' too.
     assert_eq!(pd.case.surface_agreement().missed, 0);
-    // The roller rests on the block through the contact alone (measured 1.4e-5 apart).
+    // The roller rests on the block through the contact alone.
     assert_contact_carries_the_load(pd, |i| label[i] == roller);
+}
+
+/// `convert` of a file whose physical volumes name its parts (the roller and the block
+/// above) writes each part as a body of its own (`elements`), the load shared by volume, the
+/// parts pressed together by a two-pass contact; the case runs as written, and the contact
+/// carries the roller's share of the load.
+#[test]
+fn convert_writes_each_named_part_as_a_body() {
+    let mesh = concat!(env!("CARGO_MANIFEST_DIR"), "/meshes/roller_on_block.msh");
+    let dir = common::temp_dir("pieces-convert-parts");
+    let text = std::fs::read_to_string(convert_mesh(mesh, &dir)).expect("case");
+    for needle in [
+        "name = \"block\"\n",
+        "elements = \"block\"",
+        "elements = \"roller\"",
+        "slave = \"block\"\nmaster = \"plane\"",
+        "slave = \"block\"\nmaster = \"roller\"\ntwo_pass = true",
+    ] {
+        assert!(text.contains(needle), "{needle:?} not in:\n{text}");
+    }
+    // The roller does not reach the plane, and no body is the mesh as a whole.
+    assert!(
+        !text.contains("slave = \"roller\"\nmaster = \"plane\""),
+        "{text}"
+    );
+    assert!(!text.contains("name = \"part\""), "{text}");
+    let (model, summary) = common::run_text_in(&text, &dir).expect("runs");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(summary.converged);
+    let [block, roller] = [0, 1].map(|k| model.bodies[k].as_pd().expect("deformable"));
+    assert_eq!(block.len() + roller.len(), 1726);
+    // The shares by volume add up to the whole load.
+    let load = |pd: &PdBody| (0..pd.len()).map(|i| pd.load[i].z).sum::<f64>();
+    assert!(((load(block) + load(roller)) / -2e5 - 1.0).abs() < 1e-4);
+    assert_contact_carries_the_load(roller, |_| true);
 }
 
 #[test]
@@ -354,4 +444,44 @@ fn a_part_that_the_mesh_does_not_name_is_refused_with_the_names_it_has() {
     ] {
         assert!(err.contains(needle), "{needle:?} not in: {err}");
     }
+}
+
+/// Two unit hex8 cubes 0.5 m apart, as gmsh exports an assembly to INP: each element block
+/// an `*ELSET` of its own (`Volume1`, `Volume2`), then the physical volumes' (`base`, `top`),
+/// which hold the same elements.
+const TWO_PARTS_INP: &str = "*NODE\n\
+1, 0, 0, 0\n2, 1, 0, 0\n3, 1, 1, 0\n4, 0, 1, 0\n5, 0, 0, 1\n6, 1, 0, 1\n7, 1, 1, 1\n8, 0, 1, 1\n\
+9, 0, 0, 1.5\n10, 1, 0, 1.5\n11, 1, 1, 1.5\n12, 0, 1, 1.5\n\
+13, 0, 0, 2.5\n14, 1, 0, 2.5\n15, 1, 1, 2.5\n16, 0, 1, 2.5\n\
+*ELEMENT, type=C3D8, ELSET=Volume1\n1, 1, 2, 3, 4, 5, 6, 7, 8\n\
+*ELEMENT, type=C3D8, ELSET=Volume2\n2, 9, 10, 11, 12, 13, 14, 15, 16\n\
+*ELSET, ELSET=base\n1\n*ELSET, ELSET=top\n2\n";
+
+/// The parts are the user's sets: a set that holds the same solids as a later one gives way
+/// to it; sets that overlap name no parts, and the file is one body in pieces.
+#[test]
+fn convert_takes_the_parts_by_the_users_names_and_not_from_sets_that_overlap() {
+    let dir = common::temp_dir("pieces-inp-parts");
+    let mesh = dir.join("two.inp");
+    std::fs::write(&mesh, TWO_PARTS_INP).expect("mesh");
+    let text = std::fs::read_to_string(convert_mesh(mesh.to_str().expect("utf-8"), &dir.join("a")))
+        .expect("case");
+    for needle in [
+        "elements = \"base\"",
+        "elements = \"top\"",
+        "master = \"top\"\ntwo_pass = true",
+    ] {
+        assert!(text.contains(needle), "{needle:?} not in:\n{text}");
+    }
+    assert!(!text.contains("elements = \"Volume"), "{text}");
+    // A set over both cubes: the sets overlap, and the file stays one body in pieces.
+    std::fs::write(&mesh, format!("{TWO_PARTS_INP}*ELSET, ELSET=all\n1, 2\n")).expect("mesh");
+    let text = std::fs::read_to_string(convert_mesh(mesh.to_str().expect("utf-8"), &dir.join("b")))
+        .expect("case");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(!text.contains("\nelements = "), "{text}");
+    assert!(
+        text.contains("slave = \"part\"\nmaster = \"part\""),
+        "{text}"
+    );
 }

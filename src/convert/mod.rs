@@ -19,6 +19,8 @@ use crate::math::Vec3;
 use crate::output::vtk::{write_keeping_edits, write_vtu, CellSpec, Field};
 use crate::scene::PenaltyLaw;
 
+mod parts;
+
 /// Seconds spent per stage.
 #[derive(Clone, Copy, Debug, Default, Serialize)]
 pub struct ConvertSeconds {
@@ -478,6 +480,103 @@ fn case_toml(
         sets.push_str("#   (the mesh defines no named sets)\n");
     }
     let plane_size = plane_size(case);
+    // One Δ: the spacing `run` finds from the mesh is the one this case was built with,
+    // so the key stays a comment unless it was given; written, it would outlive a
+    // `refine = 1` that halves the particles' spacing and double the horizon in spacings.
+    let spacing_line = match given_spacing {
+        Some(dx) => format!("spacing = {dx:e}     # grid spacing Δ, as given to convert\n"),
+        None => format!(
+            "# spacing = {:e}   # grid spacing Δ: by default, as here, the lattice spacing of the particles' median volume\n",
+            case.particles.spacing
+        ),
+    };
+    let second_order = match case.second_order {
+        SecondOrder::AllNodes => {
+            "second_order = \"all-nodes\"  # every node of a tet10 or hex20 a particle\n"
+        }
+        SecondOrder::Corners if has_splittable(&case.mesh) => {
+            "# second_order = \"all-nodes\"  # every node of a tet10 or hex20 a particle: 7-8x the particles, half the spacing\n"
+        }
+        SecondOrder::Corners => "",
+    };
+    let refine = match case.refine {
+        0 if case
+            .mesh
+            .solids()
+            .all(|e| matches!(e.kind.linear(), ElementKind::Tet4 | ElementKind::Hex8)) =>
+        {
+            "# refine = 1              # cut each tet and hex into eight at its edges' midpoints: about 7x the particles, half the spacing\n".to_string()
+        }
+        0 => String::new(),
+        n => format!("refine = {n}                # each tet and hex cut into eight at its edges' midpoints, {n} time(s)\n"),
+    };
+    let body = |name: &str, elements: &str| {
+        let spacing_line = if elements.is_empty() || given_spacing.is_some() {
+            spacing_line.clone()
+        } else {
+            "# spacing = Δ            # grid spacing: by default the lattice spacing of the part's particles' median volume\n".to_string()
+        };
+        format!(
+            r#"[[body]]
+name = "{name}"
+mesh = "{mesh_ref}"
+{elements}kind = "deformable"       # a PD body: particles, bonds, surface
+{spacing_line}horizon_factor = {m}      # horizon δ = m Δ
+kinematics = "small"      # small strain, as Hertz's theory and the estimate above; "finite" for large deformation
+{second_order}{refine}# translate = [0.0, 0.0, 0.0]
+# rotate = {{ axis = [0.0, 0.0, 1.0], angle_deg = 0.0 }}
+# scale = 1.0
+[body.material]
+youngs_modulus = {youngs:e}   # E, Pa
+poisson_ratio = {nu}          # bond-based PD requires 1/4
+density = 1000.0              # kg/m3
+"#,
+            m = case.horizon_factor,
+            nu = SKELETON_POISSON,
+        )
+    };
+    // Six significant digits: 4.8e6, not the 4.799999999999983e6 of the sum it came from.
+    let rounded = |f: f64| format!("{f:.5e}").parse::<f64>().unwrap_or(f);
+    let penalty = skeleton.penalty_radius.map_or(String::new(), |r| format!(
+        "radius = {r:e}     # penalty R of K = 4E*√R/3: a particle at the expected peak sinks at most {:.1} % of the contact's depth\n",
+        100.0 * PENALTY_TARGET
+    ));
+    let (bodies, rest) = match parts::parts(case) {
+        Some(parts) => (
+            parts
+                .iter()
+                .map(|p| body(&p.name, &parts::elements_line(&p.name)))
+                .collect::<Vec<_>>()
+                .join("\n"),
+            parts::loads_contacts_pins(
+                &parts,
+                -skeleton.force,
+                &skeleton.reason,
+                &penalty,
+                skeleton.penalty_radius,
+                case.particles.spacing,
+                rounded,
+            ),
+        ),
+        None => (
+            body("part", ""),
+            format!(
+                r#"[[load]]
+body = "part"
+# set = "top"             # a named node set; without it the force is spread over the whole body by volume
+force = [0.0, 0.0, {fz:e}]  # total force, N: {reason}
+
+[[contact]]
+slave = "part"
+master = "plane"
+{penalty}
+{pins}"#,
+                fz = rounded(-skeleton.force),
+                reason = skeleton.reason,
+                pins = pins_and_pieces(case, skeleton),
+            ),
+        ),
+    };
     format!(
         r#"# pdcontact scene made by `pdcontact convert` for {mesh_name}.
 # Run it with:  pdcontact run {case_path}
@@ -492,20 +591,7 @@ max_iterations = 100000   # ADR: give up (exit 1) after this many iterations
 folder = "out"            # relative to this file
 every = 500               # write a .vtu every N iterations (and the last one)
 
-[[body]]
-name = "part"
-mesh = "{mesh_ref}"
-kind = "deformable"       # a PD body: particles, bonds, surface
-{spacing_line}horizon_factor = {m}      # horizon δ = m Δ
-kinematics = "small"      # small strain, as Hertz's theory and the estimate above; "finite" for large deformation
-{second_order}{refine}# translate = [0.0, 0.0, 0.0]
-# rotate = {{ axis = [0.0, 0.0, 1.0], angle_deg = 0.0 }}
-# scale = 1.0
-[body.material]
-youngs_modulus = {youngs:e}   # E, Pa
-poisson_ratio = {nu}          # bond-based PD requires 1/4
-density = 1000.0              # kg/m3
-
+{bodies}
 # Named sets of this mesh, usable as `set = "..."` in loads and constraints:
 {sets}
 [[body]]
@@ -514,17 +600,7 @@ kind = "rigid"            # surface only: no particles, no bonds
 generator = {{ shape = "plane", point = [{cx:e}, {cy:e}, {pz:e}], normal = [0.0, 0.0, 1.0], size = {plane_size:e} }}
 motion = "fixed"
 
-[[load]]
-body = "part"
-# set = "top"             # a named node set; without it the force is spread over the whole body by volume
-force = [0.0, 0.0, {fz:e}]  # total force, N: {reason}
-
-[[contact]]
-slave = "part"
-master = "plane"
-{penalty}
-{pins}"#,
-        pins = pins_and_pieces(case, skeleton),
+{rest}"#,
         mesh_name = mesh_path.display(),
         // Quoted where the shell would split it, so that the line can be pasted.
         case_path = {
@@ -535,52 +611,9 @@ master = "plane"
                 p
             }
         },
-        // One Δ: the spacing `run` finds from the mesh is the one this case was built with,
-        // so the key stays a comment unless it was given; written, it would outlive a
-        // `refine = 1` that halves the particles' spacing and double the horizon in spacings.
-        spacing_line = match given_spacing {
-            Some(dx) => format!("spacing = {dx:e}     # grid spacing Δ, as given to convert\n"),
-            None => format!(
-                "# spacing = {:e}   # grid spacing Δ: by default, as here, the lattice spacing of the particles' median volume\n",
-                case.particles.spacing
-            ),
-        },
-        m = case.horizon_factor,
-        second_order = match case.second_order {
-            SecondOrder::AllNodes => {
-                "second_order = \"all-nodes\"  # every node of a tet10 or hex20 a particle\n"
-            }
-            SecondOrder::Corners
-                if has_splittable(&case.mesh) =>
-            {
-                "# second_order = \"all-nodes\"  # every node of a tet10 or hex20 a particle: 7-8x the particles, half the spacing\n"
-            }
-            SecondOrder::Corners => "",
-        },
-        refine = match case.refine {
-            0 if case
-                .mesh
-                .solids()
-                .all(|e| matches!(e.kind.linear(), ElementKind::Tet4 | ElementKind::Hex8)) =>
-            {
-                "# refine = 1              # cut each tet and hex into eight at its edges' midpoints: about 7x the particles, half the spacing\n".to_string()
-            }
-            0 => String::new(),
-            n => format!("refine = {n}                # each tet and hex cut into eight at its edges' midpoints, {n} time(s)\n"),
-        },
-        nu = SKELETON_POISSON,
         cx = centre[0],
         cy = centre[1],
         pz = lo[2],
-        // Six significant digits: 4.8e6, not the 4.799999999999983e6 of the sum it came from.
-        fz = format!("{:.5e}", -skeleton.force)
-            .parse::<f64>()
-            .unwrap_or(-skeleton.force),
-        reason = skeleton.reason,
-        penalty = skeleton.penalty_radius.map_or(String::new(), |r| format!(
-            "radius = {r:e}     # penalty R of K = 4E*√R/3: a particle at the expected peak sinks at most {:.1} % of the contact's depth\n",
-            100.0 * PENALTY_TARGET
-        )),
     )
 }
 
@@ -613,43 +646,17 @@ fn pins_and_pieces(case: &PdCase, skeleton: &SkeletonLoad) -> String {
             })
             .collect()
     };
-    let mut out = String::from(
-        "# A frictionless plane holds the body along its normal only: these pins (each the particle
-# nearest its point, held across the load) stop it sliding, rolling and spinning. The load and
-# the contact balance, so they carry next to nothing; remove them where supports of your own
-# hold the body sideways (docs/guide/scene.md, \"Loads, supports, symmetry\").
-",
-    );
+    let mut out = String::from(PINS_INTRO);
     for (k, (lo, hi)) in boxes.iter().enumerate() {
         let of = if boxes.len() > 1 {
             format!(" of piece {}", k + 1)
         } else {
             String::new()
         };
-        let c: Vec<f64> = (0..3).map(|d| 0.5 * (hi[d] + lo[d])).collect();
-        // A pin takes the particle nearest its point: four digits place it.
-        let (cx, cy, cz) = (pin(c[0]), pin(c[1]), pin(c[2]));
-        let (tz, sx) = (pin(hi[2]), pin(c[0] + 0.25 * (hi[0] - lo[0])));
         if k > 0 {
             out.push('\n');
         }
-        out.push_str(&format!(
-            r#"[[constraint]]
-body = "part"
-nearest = [{cx}, {cy}, {cz}]   # the centre of its bounding box{of}
-fix = ["x", "y"]
-
-[[constraint]]
-body = "part"
-nearest = [{cx}, {cy}, {tz}]   # the top of its vertical axis{of}: with the centre, no rolling
-fix = ["x", "y"]
-
-[[constraint]]
-body = "part"
-nearest = [{sx}, {cy}, {cz}]   # off the axis{of}, held across it: no spinning about it
-fix = ["y"]
-"#
-        ));
+        out.push_str(&pins("part", lo, hi, &of));
     }
     if boxes.len() > 1 {
         out.push_str(&format!(
@@ -669,6 +676,39 @@ master = "part"
         ));
     }
     out
+}
+
+/// What the pins are for, above them.
+const PINS_INTRO: &str =
+    "# A frictionless plane holds the body along its normal only: these pins (each the particle
+# nearest its point, held across the load) stop it sliding, rolling and spinning. The load and
+# the contact balance, so they carry next to nothing; remove them where supports of your own
+# hold the body sideways (docs/guide/scene.md, \"Loads, supports, symmetry\").
+";
+
+/// The three pins of `body` over the box `lo`-`hi` (`of` names the piece in their comments).
+fn pins(body: &str, lo: &[f64; 3], hi: &[f64; 3], of: &str) -> String {
+    let c: Vec<f64> = (0..3).map(|d| 0.5 * (hi[d] + lo[d])).collect();
+    // A pin takes the particle nearest its point: four digits place it.
+    let (cx, cy, cz) = (pin(c[0]), pin(c[1]), pin(c[2]));
+    let (tz, sx) = (pin(hi[2]), pin(c[0] + 0.25 * (hi[0] - lo[0])));
+    format!(
+        r#"[[constraint]]
+body = "{body}"
+nearest = [{cx}, {cy}, {cz}]   # the centre of its bounding box{of}
+fix = ["x", "y"]
+
+[[constraint]]
+body = "{body}"
+nearest = [{cx}, {cy}, {tz}]   # the top of its vertical axis{of}: with the centre, no rolling
+fix = ["x", "y"]
+
+[[constraint]]
+body = "{body}"
+nearest = [{sx}, {cy}, {cz}]   # off the axis{of}, held across it: no spinning about it
+fix = ["y"]
+"#
+    )
 }
 
 /// A pin's coordinate to four significant digits, as TOML reads it.
