@@ -266,6 +266,37 @@ fn nodes_on_top_of_each_other_are_refused_by_name() {
     assert!(err.contains("nodes on top of each other (node 5 and node 9 at [0.000000e0, 0.000000e0, 1.000000e0])"), "{err}");
 }
 
+/// The same cubes, each its own physical volume: the parts of an assembly, which touch. Each is
+/// a body of its own in the case `convert` writes, so the nodes on top of each other are not
+/// refused (gmsh's tet10 and hex meshes of a roller on a block have two such pairs where the
+/// roller touches the block).
+#[test]
+fn nodes_on_top_of_each_other_in_two_named_parts_are_two_bodies_touching() {
+    let dir = common::temp_dir("pieces-coincident-parts");
+    let mesh = dir.join("stacked.msh");
+    let named = COINCIDENT
+        .replace(
+            "$EndMeshFormat\n",
+            "$EndMeshFormat\n$PhysicalNames\n2\n3 1 \"lower\"\n3 2 \"upper\"\n$EndPhysicalNames\n",
+        )
+        .replace("1 5 2 0 1 ", "1 5 2 1 1 ")
+        .replace("2 5 2 0 2 ", "2 5 2 2 2 ");
+    std::fs::write(&mesh, named).expect("mesh");
+    let text = std::fs::read_to_string(convert_mesh(
+        mesh.to_str().expect("utf-8"),
+        &dir.join("case"),
+    ))
+    .expect("case");
+    let _ = std::fs::remove_dir_all(&dir);
+    for needle in [
+        "elements = \"lower\"",
+        "elements = \"upper\"",
+        "slave = \"lower\"\nmaster = \"upper\"",
+    ] {
+        assert!(text.contains(needle), "{needle:?} not in:\n{text}");
+    }
+}
+
 /// A plate written by another tool (`hybrid_hexwedge.msh` of the shared corpus: 6,000 ×
 /// 6,000 × 100, one element through the thickness; a row of hexes 1,043 long beside cells of
 /// 500-700): one solid, but with the default horizon (3 Δ, Δ = 292) no bond spans the long

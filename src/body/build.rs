@@ -404,6 +404,7 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
                             .iter()
                             .any(|c| c.slave == spec.name || c.master == spec.name)),
                 keep_elements: false,
+                pieces_apart: false,
             };
             let (method, skin) = (options.correction, options.skin_correction);
             let in_parts = built_in_parts(scene, spec);

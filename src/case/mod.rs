@@ -353,13 +353,14 @@ pub struct CaseOptions {
     /// Stiffen the surface row's normal bonds ([`skin`]; on by default).
     pub skin_correction: bool,
     /// Keep the mesh's elements in the case (the default). `false` for a model's bodies, which
-    /// read of their mesh only its nodes and its sets once the particles and faces are made:
-    /// the elements go before the bonds are made ([`PdCase::release_elements`], the sets kept
-    /// as their nodes), and with them most of a large mesh (a tet mesh's elements are about
-    /// 200 bytes a node) at the moment a body's bonds and their correction are made; the
-    /// surface's eigenvalues go once the surface is chosen
-    /// ([`SurfaceDetection::release_eigenvalues`]).
+    /// read of their mesh only its nodes and sets once the particles and faces are made: the
+    /// elements go before the bonds ([`PdCase::release_elements`]), and with them most of a
+    /// large mesh (a tet mesh's elements are about 200 bytes a node); the surface's
+    /// eigenvalues go once it is chosen ([`SurfaceDetection::release_eigenvalues`]).
     pub keep_elements: bool,
+    /// The mesh's pieces are the parts of an assembly (`convert` of a mesh whose sets name
+    /// them): nodes of two pieces on top of each other are not refused.
+    pub pieces_apart: bool,
 }
 
 impl Default for CaseOptions {
@@ -375,6 +376,7 @@ impl Default for CaseOptions {
             surface_volume: SurfaceVolume::PerArea,
             skin_correction: true,
             keep_elements: true,
+            pieces_apart: false,
         }
     }
 }
@@ -557,7 +559,8 @@ impl PdCase {
             &particles.position,
             0.75 * (options.horizon_factor + 0.5) * spacing,
         );
-        let mesh_pieces = unbonded::mesh_pieces(&mesh, &particles.node, spacing);
+        let mesh_pieces =
+            unbonded::mesh_pieces(&mesh, &particles.node, spacing, options.pieces_apart);
         // Particles, faces and volumes are made: what the model reads of the mesh from here
         // on is its nodes and its sets.
         let (mesh, elements_released) = if options.keep_elements {

@@ -27,16 +27,18 @@ pub struct MeshPieces {
     /// Each particle's piece.
     pub label: Vec<u32>,
     /// Bonds no longer than this join nodes on top of each other, which
-    /// [`crate::case::sight::refuse_coincident`] refuses by name: they are left to it.
+    /// [`crate::case::sight::refuse_coincident`] refuses by name: they are left to it
+    /// (negative where the pieces are an assembly's parts: every bond between them goes).
     pub coincident: f64,
 }
 
-/// The mesh's pieces, or `None` where the mesh is one piece. `node`: each particle's mesh node.
-pub fn mesh_pieces(mesh: &Mesh, node: &[u32], spacing: f64) -> Option<MeshPieces> {
+/// The mesh's pieces, or `None` where the mesh is one piece. `node`: each particle's mesh node;
+/// `apart`: the pieces are the parts of an assembly, whose nodes may lie on each other.
+pub fn mesh_pieces(mesh: &Mesh, node: &[u32], spacing: f64, apart: bool) -> Option<MeshPieces> {
     let (label, count) = solid_pieces(mesh);
     (count > 1).then(|| MeshPieces {
         label: node.iter().map(|&k| label[k as usize]).collect(),
-        coincident: COINCIDENT * spacing,
+        coincident: if apart { -1.0 } else { COINCIDENT * spacing },
     })
 }
 

@@ -184,6 +184,12 @@ pub fn convert(
         })
     };
     let given_factor = options.horizon_factor;
+    // An assembly whose sets name its parts: they may touch, nodes of two on each other,
+    // since each becomes a body of its own (the case as a whole would refuse such nodes).
+    let options = CaseOptions {
+        pieces_apart: options.pieces_apart || parts::named(&mesh),
+        ..options
+    };
     let mut case = build(mesh, options.clone())?;
     // Where the horizon leaves a solid in pieces (elements longer than the bonds reach), the
     // case written is the one that joins them: `run` would refuse the other.

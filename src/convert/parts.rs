@@ -4,7 +4,7 @@
 //! each can be given its own material, loads and supports, and the parts meet through
 //! contacts between them (docs/guide/scene.md, "Contact").
 
-use pdcontact_importers::MISSING_NODE;
+use pdcontact_importers::{Mesh, MISSING_NODE};
 
 use crate::case::PdCase;
 
@@ -21,74 +21,7 @@ pub(super) struct Part {
 /// of that name, whatever its case; not the skeleton's rigid "plane"; nothing TOML would
 /// need escaped).
 pub(super) fn parts(case: &PdCase) -> Option<Vec<Part>> {
-    let mesh = &case.mesh;
-    // Each set's solids, in the file's order of sets.
-    let mut sets: Vec<(&str, Vec<usize>)> = mesh
-        .sets
-        .iter()
-        .filter_map(|set| {
-            let mut solids: Vec<usize> = set
-                .elements
-                .as_ref()?
-                .iter()
-                .map(|&e| e as usize)
-                .filter(|&e| e < mesh.element_count() && mesh.element(e).kind.is_solid())
-                .collect();
-            solids.sort_unstable();
-            solids.dedup();
-            (!solids.is_empty()).then_some((set.name.as_str(), solids))
-        })
-        .collect();
-    // A set that holds the same solids as a later one names the same part twice (gmsh's INP
-    // export writes `Volume1` with the elements, then the physical volume's `*ELSET`): the
-    // later name, the user's, is kept.
-    let mut k = 0;
-    while k < sets.len() {
-        if sets[k + 1..].iter().any(|(_, later)| *later == sets[k].1) {
-            sets.remove(k);
-        } else {
-            k += 1;
-        }
-    }
-    let mut owner = vec![u32::MAX; mesh.element_count()];
-    let mut node_owner = vec![u32::MAX; mesh.node_count()];
-    let mut names: Vec<String> = Vec::new();
-    for (name, solids) in sets {
-        let k = names.len() as u32;
-        for e in solids {
-            if owner[e] != u32::MAX {
-                return None;
-            }
-            owner[e] = k;
-            for &n in mesh.element(e).nodes.iter().filter(|&&n| n != MISSING_NODE) {
-                let seen = &mut node_owner[n as usize];
-                if *seen != u32::MAX && *seen != k {
-                    return None;
-                }
-                *seen = k;
-            }
-        }
-        names.push(name.to_string());
-    }
-    if names.len() < 2 || mesh.solids().any(|e| owner[e.index as usize] == u32::MAX) {
-        return None;
-    }
-    let usable = |name: &String| {
-        !name.is_empty()
-            && !name.eq_ignore_ascii_case("plane")
-            && !name
-                .chars()
-                .any(|c| c == '"' || c == '\\' || c.is_control())
-            && mesh
-                .sets
-                .iter()
-                .filter(|s| s.name.eq_ignore_ascii_case(name))
-                .count()
-                == 1
-    };
-    if !names.iter().all(usable) {
-        return None;
-    }
+    let (names, node_owner) = part_sets(&case.mesh)?;
     let mut parts: Vec<Part> = names
         .into_iter()
         .map(|name| Part {
@@ -187,4 +120,82 @@ force = [0.0, 0.0, {f:e}]  # N: its share by volume
         ));
     }
     out
+}
+
+/// Whether the mesh's sets name its parts ([`parts`]): then its pieces may touch, nodes of
+/// two parts on top of each other, as parts of an assembly do.
+pub(super) fn named(mesh: &Mesh) -> bool {
+    part_sets(mesh).is_some()
+}
+
+/// The parts' names and each node's part ([`parts`]).
+fn part_sets(mesh: &Mesh) -> Option<(Vec<String>, Vec<u32>)> {
+    // Each set's solids, in the file's order of sets.
+    let mut sets: Vec<(&str, Vec<usize>)> = mesh
+        .sets
+        .iter()
+        .filter_map(|set| {
+            let mut solids: Vec<usize> = set
+                .elements
+                .as_ref()?
+                .iter()
+                .map(|&e| e as usize)
+                .filter(|&e| e < mesh.element_count() && mesh.element(e).kind.is_solid())
+                .collect();
+            solids.sort_unstable();
+            solids.dedup();
+            (!solids.is_empty()).then_some((set.name.as_str(), solids))
+        })
+        .collect();
+    // A set that holds the same solids as a later one names the same part twice (gmsh's INP
+    // export writes `Volume1` with the elements, then the physical volume's `*ELSET`): the
+    // later name, the user's, is kept.
+    let mut k = 0;
+    while k < sets.len() {
+        if sets[k + 1..].iter().any(|(_, later)| *later == sets[k].1) {
+            sets.remove(k);
+        } else {
+            k += 1;
+        }
+    }
+    let mut owner = vec![u32::MAX; mesh.element_count()];
+    let mut node_owner = vec![u32::MAX; mesh.node_count()];
+    let mut names: Vec<String> = Vec::new();
+    for (name, solids) in sets {
+        let k = names.len() as u32;
+        for e in solids {
+            if owner[e] != u32::MAX {
+                return None;
+            }
+            owner[e] = k;
+            for &n in mesh.element(e).nodes.iter().filter(|&&n| n != MISSING_NODE) {
+                let seen = &mut node_owner[n as usize];
+                if *seen != u32::MAX && *seen != k {
+                    return None;
+                }
+                *seen = k;
+            }
+        }
+        names.push(name.to_string());
+    }
+    if names.len() < 2 || mesh.solids().any(|e| owner[e.index as usize] == u32::MAX) {
+        return None;
+    }
+    let usable = |name: &String| {
+        !name.is_empty()
+            && !name.eq_ignore_ascii_case("plane")
+            && !name
+                .chars()
+                .any(|c| c == '"' || c == '\\' || c.is_control())
+            && mesh
+                .sets
+                .iter()
+                .filter(|s| s.name.eq_ignore_ascii_case(name))
+                .count()
+                == 1
+    };
+    if !names.iter().all(usable) {
+        return None;
+    }
+    Some((names, node_owner))
 }
