@@ -80,7 +80,10 @@ radius = 1e4
 /// conjugate-gradient iterations and 103 force evaluations; radius 0.295029 / 0.295027 m,
 /// peak 2.09833e8 / 2.09834e8 Pa. Since a whole step that brings slaves into contact is
 /// taken whole, 25 Newton iterations (`validate --mesh meshes/sphere_tet4_h007.msh
-/// --refine 0 --solver static`): the contact no longer grows one ring per iteration.
+/// --refine 0 --solver static`): the contact no longer grows one ring per iteration; 20 with
+/// the coarse space; 12 since each solve is repeated with the contacts its step makes and the
+/// stabilisation lets the load move the body a spacing (docs/PERFORMANCE.md, "The contacts a
+/// Newton step makes").
 #[test]
 fn static_matches_adr_and_hertz_on_the_stored_tet_sphere() {
     let dir = temp_dir("tet");
@@ -101,7 +104,7 @@ fn static_matches_adr_and_hertz_on_the_stored_tet_sphere() {
         newton.force_balance_error
     );
     assert!(
-        newton.solver.iterations <= 32,
+        newton.solver.iterations <= 16,
         "{} Newton iterations",
         newton.solver.iterations
     );

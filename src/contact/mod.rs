@@ -650,6 +650,44 @@ impl ContactPass {
         }
     }
 
+    /// The slaves that may touch and are not in contact, each with the segment in front of it
+    /// nearest along its normal (projected inside it, facing, the gap open and under two
+    /// spacings): `(slave, segment, projection)`. The static solver's prediction of the
+    /// contacts its Newton step makes. None on the faces broken bonds opened.
+    pub fn open_gaps(&self, bodies: &[Body]) -> Vec<(u32, u32, Projection)> {
+        if self.found.is_some() {
+            return Vec::new();
+        }
+        let sb = bodies[self.slave].as_pd().expect("slave is deformable");
+        let shift = self.shift.clone();
+        let view = self.view(bodies, &shift);
+        let planes = shared_planes(sb, view);
+        (0..self.slaves.len())
+            .into_par_iter()
+            .filter_map(|k| {
+                let s = self.slaves[k];
+                if self.held[k] != NO_SEGMENT {
+                    return None;
+                }
+                let p = self.slave_point(sb, s);
+                let facing = slave_normal(sb, s as usize);
+                self.candidates(k)
+                    .iter()
+                    .filter_map(|&seg| {
+                        let (mut pr, outside) = project_plain(sb, view, &planes, s, p, seg)?;
+                        pr.normal = self.smooth_normal(view, seg, &pr);
+                        (outside == 0.0
+                            && pr.gap >= 0.0
+                            && pr.gap < 2.0 * self.spacing
+                            && facing.dot(&pr.normal) < 0.0)
+                            .then_some((seg, pr))
+                    })
+                    .min_by(|a, b| a.1.gap.total_cmp(&b.1.gap))
+                    .map(|(seg, pr)| (s, seg, pr))
+            })
+            .collect()
+    }
+
     /// The candidate segments of slave `k` of this pass (an index into `slaves`) at the last
     /// Verlet rebuild.
     pub fn candidates(&self, k: usize) -> &[u32] {

@@ -32,6 +32,7 @@ mod coarse;
 mod dofs;
 mod explicit;
 mod newton;
+mod predict;
 mod tangent;
 mod unheld;
 

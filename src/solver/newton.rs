@@ -6,7 +6,8 @@
 //! Each Newton iteration solves `A d = S⁻¹ R` (the tangent and the out-of-balance force of the
 //! free degrees of freedom, rows divided by each particle's share) to a relative residual
 //! `η` that tightens as the out-of-balance force nears the tolerance (inexact Newton: no
-//! more conjugate-gradient iterations than the next Newton step can use), then looks along
+//! more conjugate-gradient iterations than the next Newton step can use), solved again with
+//! the contacts that the step makes ([`super::predict`]) until they stop changing, then looks along
 //! `d` for the point where the energy's slope `d·R(u + αd)` has fallen to half its value
 //! at `α = 0` (regula falsi, at most [`LINE_SEARCH`] force evaluations; a trial state with a
 //! missed contact is a step too long), unless the whole step is sound and brings slaves into
@@ -30,6 +31,7 @@
 
 use super::coarse::CoarseSpace;
 use super::dofs::Dofs;
+use super::predict;
 use super::tangent::{scale_and_mask, Tangent};
 use super::{
     applied_norm, check_missed, displacement_reference, driven, free_factor, full_loads,
@@ -181,8 +183,9 @@ fn residual(model: &Model, out: &mut Dofs) -> f64 {
 }
 
 /// Preconditioned conjugate gradients for `A x = b` in the inner product `xᵀ S y` (where
-/// `A` is symmetric: [`super::tangent`]) to `‖r‖ ≤ eta ‖b‖`; returns the
-/// iterations taken.
+/// `A` is symmetric: [`super::tangent`]) to `‖r‖ ≤ eta ‖b‖`, from zero or, where `warm`,
+/// from `x` as it is; returns the tangent products taken.
+#[allow(clippy::too_many_arguments)]
 fn pcg(
     tangent: &mut Tangent,
     space: Option<&CoarseSpace>,
@@ -190,15 +193,29 @@ fn pcg(
     b: &Dofs,
     eta: f64,
     x: &mut Dofs,
+    warm: bool,
     work: &mut [Dofs; 3],
 ) -> usize {
     let [r, z, p] = work;
     let mut ap = Dofs::zeros(model);
-    x.fill_zero();
-    r.clone_from(b);
-    let norm0 = r.dot(r).sqrt();
+    let norm0 = b.dot(b).sqrt();
     if !(norm0 > 0.0) {
+        x.fill_zero();
         return 0;
+    }
+    // From `x` as it is where `warm` (one product more), else from zero.
+    let mut taken = 0;
+    if warm {
+        tangent.apply(model, x, &mut ap);
+        r.clone_from(b);
+        r.axpy(-1.0, &ap);
+        taken = 1;
+        if r.dot(r).sqrt() <= eta * norm0 {
+            return taken;
+        }
+    } else {
+        x.fill_zero();
+        r.clone_from(b);
     }
     tangent.precondition(space, model, r, z);
     p.clone_from(z);
@@ -209,16 +226,16 @@ fn pcg(
         if !(pap > 0.0) {
             // Not positive along p (a compressed bond's negative stiffness, say): keep what
             // has been found, or take the preconditioned residual as the direction.
-            if k == 1 {
+            if k == 1 && !warm {
                 x.clone_from(z);
             }
-            return k;
+            return k + taken;
         }
         let alpha = rz / pap;
         x.axpy(alpha, p);
         r.axpy(-alpha, &ap);
         if r.dot(r).sqrt() <= eta * norm0 {
-            return k;
+            return k + taken;
         }
         tangent.precondition(space, model, r, z);
         let rz_new = r.dot_shares(z, model);
@@ -561,8 +578,32 @@ fn increment(
             &rhs,
             eta,
             &mut d,
+            false,
             &mut work,
         );
+        // The contacts the step makes, predicted: the solve again with their springs.
+        let open = predict::open_slaves(model);
+        if !open.is_empty() {
+            let mut chosen = vec![false; open.len()];
+            let mut pressed = Dofs::zeros(model);
+            for _ in 0..predict::ROUNDS {
+                if !predict::choose(&open, &d, &mut chosen) {
+                    break;
+                }
+                let springs = predict::springs_and_rhs(model, &open, &chosen, &rhs, &mut pressed);
+                tangent.predict(springs);
+                counts.linear += pcg(
+                    &mut tangent,
+                    coarse.as_ref(),
+                    model,
+                    &pressed,
+                    eta,
+                    &mut d,
+                    true,
+                    &mut work,
+                );
+            }
+        }
         monitor.linear_iterations(counts.linear);
         // The energy's slope along d: `dᵀR = dᵀS (S⁻¹R)`, the shares put back.
         let g0 = d.dot_shares(&rhs, model);

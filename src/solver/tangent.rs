@@ -31,7 +31,8 @@
 //! * **Stabilisation.** A body held only by contact has no stiffness along its load before
 //!   it touches, and the first Newton step would carry it away. Every slave that may touch
 //!   (a Verlet candidate, [`ContactPass::may_touch`]) gets, in the tangent only, the
-//!   light-contact stiffness that ADR gives it ([`ContactLaw::relaxation_stiffness`] at 0)
+//!   light-contact stiffness that ADR gives it ([`ContactLaw::relaxation_stiffness`] at 0),
+//!   or less, as little as lets the load move the body a spacing ([`stabilisation_stiffness`]),
 //!   along its own normal, and a deformable master that its loads push where no support
 //!   holds it the same on the nodes of a segment the slave may touch (the body held only by
 //!   contact may be the master), times a factor that the Newton loop halves each iteration. The residual is untouched, so the equilibrium is the same; only the path to
@@ -127,6 +128,9 @@ pub(super) struct Tangent {
     scratch: Vec<Vec<Vec3>>,
     /// The factorised `Pᵀ K P` of the coarse space, where one is used.
     coarse: Option<nalgebra::linalg::Cholesky<f64, nalgebra::Dyn>>,
+    /// How many of `springs` are the state's own; the rest are the predicted contacts'
+    /// ([`super::predict`]).
+    own: usize,
 }
 
 /// The tangent of a bond `w n⊗n`-like block: `ξξᵀ/|ξ|²` (linearised) or
@@ -275,6 +279,7 @@ impl Tangent {
                 _ => 0.0,
             })
             .collect();
+        let springs_len = springs.len();
         Tangent {
             springs,
             current,
@@ -282,6 +287,7 @@ impl Tangent {
             rigid_inverse,
             scratch: vec![Vec::new(); nb],
             coarse: None,
+            own: springs_len,
         }
     }
 
@@ -297,6 +303,13 @@ impl Tangent {
     #[cfg(test)]
     pub fn springs(&self) -> &[Spring] {
         &self.springs
+    }
+
+    /// Replaces the predicted contacts' springs ([`super::predict`]) by `predicted`; the
+    /// preconditioner stays the state's own.
+    pub fn predict(&mut self, predicted: impl IntoIterator<Item = Spring>) {
+        self.springs.truncate(self.own);
+        self.springs.extend(predicted);
     }
 
     /// `out = A v` (fixed components zero).
@@ -422,6 +435,38 @@ pub(super) fn scale_and_mask(model: &Model, out: &mut Dofs) {
     }
 }
 
+/// Where the reaction of `pass`'s contact on a segment with corners `nodes` at `weights` goes.
+pub(super) fn master_of(
+    model: &Model,
+    pass: &ContactPass,
+    nodes: [u32; 4],
+    weights: [f64; 4],
+) -> Master {
+    match &model.bodies[pass.master] {
+        Body::Deformable(_) => Master::Nodes {
+            body: pass.master,
+            nodes,
+            weights,
+        },
+        Body::Rigid(rb) if rb.motion == Motion::Free => Master::Free {
+            body: pass.master,
+            axis: rb.axis,
+        },
+        Body::Rigid(_) => Master::Ground,
+    }
+}
+
+/// The master segments of `pass`.
+pub(super) fn master_segments<'a>(
+    model: &'a Model,
+    pass: &ContactPass,
+) -> &'a [crate::case::segments::MasterSegment] {
+    match &model.bodies[pass.master] {
+        Body::Deformable(mb) => mb.segments(),
+        Body::Rigid(rb) => &rb.faces[..],
+    }
+}
+
 /// The springs of one contact pass: its contacts, and the stabilisation of the slaves that
 /// may touch and do not.
 fn pass_springs(
@@ -434,22 +479,8 @@ fn pass_springs(
     let Some(sb) = model.bodies[pass.slave].as_pd() else {
         return Vec::new();
     };
-    let master_of = |nodes: [u32; 4], weights: [f64; 4]| match &model.bodies[pass.master] {
-        Body::Deformable(_) => Master::Nodes {
-            body: pass.master,
-            nodes,
-            weights,
-        },
-        Body::Rigid(rb) if rb.motion == Motion::Free => Master::Free {
-            body: pass.master,
-            axis: rb.axis,
-        },
-        Body::Rigid(_) => Master::Ground,
-    };
-    let segments = match &model.bodies[pass.master] {
-        Body::Deformable(mb) => mb.segments(),
-        Body::Rigid(rb) => &rb.faces[..],
-    };
+    let master_of = |nodes, weights| master_of(model, pass, nodes, weights);
+    let segments = master_segments(model, pass);
     let mut out = Vec::with_capacity(pass.contacts.len());
     let mut touching = vec![false; sb.len()];
     for c in &pass.contacts {
@@ -496,7 +527,7 @@ fn pass_springs(
         });
     }
     if stabilise > 0.0 {
-        let k0 = stabilise * pass.weight * pass.law.relaxation_stiffness(0.0);
+        let k0 = stabilise * stabilisation_stiffness(model, pass);
         let master = &model.bodies[pass.master];
         let loose_master = master.as_pd().is_some() && super::unheld::pushed(master).is_some();
         for (k, &s) in pass.slaves.iter().enumerate() {
@@ -548,6 +579,31 @@ fn pass_springs(
         }
     }
     out
+}
+
+/// The stabilisation's spring on each slave of `pass` that may touch, at its full strength:
+/// ADR's light-contact stiffness, or less where that would hold the body still. A body held
+/// only by contact should reach its contact in the first Newton step: the springs together
+/// let the load pressing the pair together (the larger resultant of the two bodies' loads)
+/// move it by one slave spacing, `|F| / (n Δ)` over the `n` slaves that may touch. ADR's
+/// light-contact stiffness held the demo's sphere within Δ/236 of where it started, and its
+/// contact grew a ring of slaves per Newton iteration (docs/PERFORMANCE.md, "The
+/// contacts a Newton step makes").
+fn stabilisation_stiffness(model: &Model, pass: &ContactPass) -> f64 {
+    let light = pass.weight * pass.law.relaxation_stiffness(0.0);
+    let resultant = |b: &Body| match b {
+        Body::Deformable(pd) => pd.load.iter().sum::<Vec3>().norm(),
+        Body::Rigid(rb) if rb.motion == Motion::Free => rb.load.dot(&rb.axis).abs(),
+        Body::Rigid(_) => 0.0,
+    };
+    let load = resultant(&model.bodies[pass.slave]).max(resultant(&model.bodies[pass.master]));
+    let n = (0..pass.slaves.len())
+        .filter(|&k| pass.may_touch(k))
+        .count();
+    if !(load > 0.0) || n == 0 || !(pass.spacing > 0.0) {
+        return light;
+    }
+    light.min(pass.weight * load / (n as f64 * pass.spacing))
 }
 
 /// The bonds' diagonal blocks of `K` for each particle: `Σ_b w_b B_b` (with a bond to the
