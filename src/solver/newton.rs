@@ -571,42 +571,26 @@ fn increment(
         .max(0.3 * tolerance / rel)
         .clamp(1e-8, ETA_MAX);
         previous = Some(rel);
-        counts.linear += pcg(
-            &mut tangent,
-            coarse.as_ref(),
-            model,
-            &rhs,
-            eta,
-            &mut d,
-            false,
-            &mut work,
-        );
+        // From zero (`warm` false) or from `d` as it is.
+        let mut solve = |m: &mut Model, t: &mut Tangent, b: &Dofs, x: &mut Dofs, warm: bool| {
+            pcg(t, coarse.as_ref(), m, b, eta, x, warm, &mut work)
+        };
+        counts.linear += solve(model, &mut tangent, &rhs, &mut d, false);
         // The contacts the step makes, predicted: the solve again with their springs.
-        let open = predict::open_slaves(model);
-        if !open.is_empty() {
-            let mut chosen = vec![false; open.len()];
-            let mut pressed = Dofs::zeros(model);
-            for _ in 0..predict::ROUNDS {
-                if !predict::choose(&open, &d, &mut chosen) {
-                    break;
-                }
-                let springs = predict::springs_and_rhs(model, &open, &chosen, &rhs, &mut pressed);
-                tangent.predict(springs);
-                counts.linear += pcg(
-                    &mut tangent,
-                    coarse.as_ref(),
-                    model,
-                    &pressed,
-                    eta,
-                    &mut d,
-                    true,
-                    &mut work,
-                );
-            }
+        let predicted = predict::with_contacts(model, &mut tangent, &rhs, &mut d, |m, t, b, x| {
+            solve(m, t, b, x, true)
+        });
+        counts.linear += predicted;
+        // The energy's slope along d: `dᵀR = dᵀS (S⁻¹R)`, the shares put back.
+        let mut g0 = d.dot_shares(&rhs, model);
+        // The predicted contacts' pull is no part of the residual: where the step they gave
+        // does not go down the energy, the plain one.
+        if !(g0 > 0.0) && predicted > 0 {
+            tangent.predict([]);
+            counts.linear += solve(model, &mut tangent, &rhs, &mut d, false);
+            g0 = d.dot_shares(&rhs, model);
         }
         monitor.linear_iterations(counts.linear);
-        // The energy's slope along d: `dᵀR = dᵀS (S⁻¹R)`, the shares put back.
-        let g0 = d.dot_shares(&rhs, model);
         if !(g0 > 0.0) {
             gave_up = Some(format!(
                 "Newton iteration {it}: the linear solve gave no descent direction"

@@ -14,13 +14,41 @@
 //! the step's direction, not the equilibrium.
 
 use super::dofs::Dofs;
-use super::tangent::{master_of, scale_and_mask, Master, Spring};
+use super::tangent::{master_of, scale_and_mask, Master, Spring, Tangent};
 use crate::contact::ContactPass;
 use crate::math::Vec3;
 use crate::model::Model;
 
 /// Linear solves a Newton iteration may repeat with the contacts it predicts.
 pub const ROUNDS: usize = 4;
+
+/// Repeats the linear solve of the step `d` (`solve(model, tangent, rhs, d)`, from `d` as it
+/// is) with the springs of the contacts it makes, until they stop changing or [`ROUNDS`]
+/// times; returns the tangent products taken (0: none predicted).
+pub(super) fn with_contacts(
+    model: &mut Model,
+    tangent: &mut Tangent,
+    rhs: &Dofs,
+    d: &mut Dofs,
+    mut solve: impl FnMut(&mut Model, &mut Tangent, &Dofs, &mut Dofs) -> usize,
+) -> usize {
+    let open = open_slaves(model);
+    let mut products = 0;
+    if open.is_empty() {
+        return products;
+    }
+    let mut chosen = vec![false; open.len()];
+    let mut pressed = Dofs::zeros(model);
+    for _ in 0..ROUNDS {
+        if !choose(&open, d, &mut chosen) {
+            break;
+        }
+        let springs = springs_and_rhs(model, &open, &chosen, rhs, &mut pressed);
+        tangent.predict(springs);
+        products += solve(model, tangent, &pressed, d);
+    }
+    products
+}
 
 /// An open slave in front of a master segment: the spring it would get.
 pub(super) struct Open {
@@ -32,7 +60,7 @@ pub(super) struct Open {
 /// The open slaves of every contact pass at the current state, each with the spring a
 /// contact would give it: the pass's law at the mean penetration of its contacts (ADR's
 /// light-contact stiffness where it has none, and at least that).
-pub(super) fn open_slaves(model: &Model) -> Vec<Open> {
+fn open_slaves(model: &Model) -> Vec<Open> {
     let mut out = Vec::new();
     for (q, pass) in model.passes.iter().enumerate() {
         let Some(sb) = model.bodies[pass.slave].as_pd() else {
@@ -95,7 +123,7 @@ fn gap_after(o: &Open, d: &Dofs) -> f64 {
 
 /// Which of `open` the step `d` leaves in contact: those it closes, and of those already
 /// chosen (`chosen`), the ones their springs still press (not pulled). True if that changed.
-pub(super) fn choose(open: &[Open], d: &Dofs, chosen: &mut [bool]) -> bool {
+fn choose(open: &[Open], d: &Dofs, chosen: &mut [bool]) -> bool {
     let mut changed = false;
     for (o, c) in open.iter().zip(chosen.iter_mut()) {
         let now = gap_after(o, d) < 0.0;
@@ -108,7 +136,7 @@ pub(super) fn choose(open: &[Open], d: &Dofs, chosen: &mut [bool]) -> bool {
 /// The chosen open slaves' springs, and `rhs` plus their pull towards where they touch
 /// (`−k g n` on the slave, its reaction on the master), divided by the shares and masked as
 /// the residual is.
-pub(super) fn springs_and_rhs(
+fn springs_and_rhs(
     model: &Model,
     open: &[Open],
     chosen: &[bool],
