@@ -14,7 +14,7 @@
 //! the step's direction, not the equilibrium.
 
 use super::dofs::Dofs;
-use super::tangent::{master_of, scale_and_mask, Master, Spring, Tangent};
+use super::tangent::{master_of, scale_and_mask, Spring, Tangent};
 use crate::contact::ContactPass;
 use crate::math::Vec3;
 use crate::model::Model;
@@ -105,19 +105,7 @@ fn law_stiffness(pass: &ContactPass) -> f64 {
 /// The linearised gap of `o` after the step `d`.
 fn gap_after(o: &Open, d: &Dofs) -> f64 {
     let s = &o.spring;
-    let vm: Vec3 = match s.master {
-        Master::Nodes {
-            body,
-            nodes,
-            weights,
-        } => nodes
-            .iter()
-            .zip(weights)
-            .map(|(n, w)| d.pd[body][*n as usize] * w)
-            .sum(),
-        Master::Free { body, axis } => axis * d.rigid[body],
-        Master::Ground => Vec3::zeros(),
-    };
+    let vm = s.master.motion(d);
     o.gap + s.normal.dot(&(d.pd[s.body][s.slave as usize] - vm))
 }
 
@@ -149,19 +137,7 @@ fn springs_and_rhs(
         let s = o.spring;
         let f = -s.normal * (s.k * o.gap);
         out.pd[s.body][s.slave as usize] += f;
-        match s.master {
-            Master::Nodes {
-                body,
-                nodes,
-                weights,
-            } => {
-                for (n, w) in nodes.iter().zip(weights) {
-                    out.pd[body][*n as usize] -= f * w;
-                }
-            }
-            Master::Free { body, axis } => out.rigid[body] -= f.dot(&axis),
-            Master::Ground => {}
-        }
+        s.master.react(f, out);
         springs.push(s);
     }
     scale_and_mask(model, out);

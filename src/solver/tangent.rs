@@ -68,6 +68,42 @@ pub(super) enum Master {
     Ground,
 }
 
+impl Master {
+    /// The master's motion where the slave touches it, from the unknowns `v`.
+    pub fn motion(&self, v: &Dofs) -> Vec3 {
+        match *self {
+            Master::Nodes {
+                body,
+                nodes,
+                weights,
+            } => nodes
+                .iter()
+                .zip(weights)
+                .map(|(n, w)| v.pd[body][*n as usize] * w)
+                .sum(),
+            Master::Free { body, axis } => axis * v.rigid[body],
+            Master::Ground => Vec3::zeros(),
+        }
+    }
+
+    /// Adds to `out` the master's reaction to the force `f` on the slave.
+    pub fn react(&self, f: Vec3, out: &mut Dofs) {
+        match *self {
+            Master::Nodes {
+                body,
+                nodes,
+                weights,
+            } => {
+                for (n, w) in nodes.iter().zip(weights) {
+                    out.pd[body][*n as usize] -= f * w;
+                }
+            }
+            Master::Free { body, axis } => out.rigid[body] -= f.dot(&axis),
+            Master::Ground => {}
+        }
+    }
+}
+
 /// One penalty spring of the tangent between a slave particle and its master:
 /// `C = k n⊗n + k_s (I − n⊗n − s⊗s)`, the normal law's `k` and, with friction, the
 /// tangential law's `k_s` in the master's tangent plane, less the slip direction `s` where
@@ -361,34 +397,10 @@ impl Tangent {
         }
         for s in &self.springs {
             let vs = v.pd[s.body][s.slave as usize];
-            let vm = match s.master {
-                Master::Nodes {
-                    body,
-                    nodes,
-                    weights,
-                } => nodes
-                    .iter()
-                    .zip(weights)
-                    .map(|(n, w)| v.pd[body][*n as usize] * w)
-                    .sum(),
-                Master::Free { body, axis } => axis * v.rigid[body],
-                Master::Ground => Vec3::zeros(),
-            };
+            let vm = s.master.motion(v);
             let f = s.force(vs - vm);
             out.pd[s.body][s.slave as usize] += f;
-            match s.master {
-                Master::Nodes {
-                    body,
-                    nodes,
-                    weights,
-                } => {
-                    for (n, w) in nodes.iter().zip(weights) {
-                        out.pd[body][*n as usize] -= f * w;
-                    }
-                }
-                Master::Free { body, axis } => out.rigid[body] -= f.dot(&axis),
-                Master::Ground => {}
-            }
+            s.master.react(f, out);
         }
         scale_and_mask(model, out);
     }
