@@ -651,9 +651,16 @@ impl ContactPass {
     }
 
     /// The slaves that may touch and are not in contact, each with the segment in front of it
-    /// nearest along its normal (projected inside it, facing, the gap open and under two
-    /// spacings): `(slave, segment, projection)`. The static solver's prediction of the
-    /// contacts its Newton step makes. None on the faces broken bonds opened.
+    /// nearest along its normal (facing, the gap open and under two spacings; projected
+    /// inside it, or where it projects inside none, the one it projects least outside of, by
+    /// no more than a tenth of its gap): `(slave, segment, projection)`. The static solver's prediction
+    /// of the contacts its Newton step makes. None on the faces broken bonds opened.
+    ///
+    /// In front of a convex master a slave over an edge or a vertex projects outside every
+    /// segment around it, and only once it has gone through does it project inside one: left
+    /// out, such slaves went through the window in the step that closed the contact around
+    /// them (two gmsh tet4 spheres, h = 0.045: 2-7 of 100-120 slaves at each of the first
+    /// nine Newton iterations), and the line search cut the whole step back.
     pub fn open_gaps(&self, bodies: &[Body]) -> Vec<(u32, u32, Projection)> {
         if self.found.is_some() {
             return Vec::new();
@@ -676,14 +683,14 @@ impl ContactPass {
                     .filter_map(|&seg| {
                         let (mut pr, outside) = project_plain(sb, view, &planes, s, p, seg)?;
                         pr.normal = self.smooth_normal(view, seg, &pr);
-                        (outside == 0.0
+                        (outside <= 0.1 * pr.gap
                             && pr.gap >= 0.0
                             && pr.gap < 2.0 * self.spacing
                             && facing.dot(&pr.normal) < 0.0)
-                            .then_some((seg, pr))
+                            .then_some((seg, pr, outside))
                     })
-                    .min_by(|a, b| a.1.gap.total_cmp(&b.1.gap))
-                    .map(|(seg, pr)| (s, seg, pr))
+                    .min_by(|a, b| a.2.total_cmp(&b.2).then(a.1.gap.total_cmp(&b.1.gap)))
+                    .map(|(seg, pr, _)| (s, seg, pr))
             })
             .collect()
     }
