@@ -52,6 +52,7 @@ pub use narrow::{
     project, project_any, project_on_plane_edge, select_across_edge, select_segment, slave_normal,
     Projection, Touch, EDGE_FACING, FACING, INSIDE_TOLERANCE,
 };
+pub use normal::Slide;
 
 use crate::body::{Body, PdBody, RigidBody};
 use crate::case::segments::MasterSegment;
@@ -200,6 +201,9 @@ pub struct ContactPoint {
     /// Master segment.
     pub segment: u32,
     pub projection: Projection,
+    /// The segment's own normal, along which the gap is measured (`projection.normal` is
+    /// smoothed): the penetration's gradient in the slave's motion.
+    pub gap_normal: Vec3,
     /// Penetration `δ_p = −g ≥ 0`.
     pub penetration: f64,
     /// Force on the slave (N): the normal force along the master's normal, plus friction's.
@@ -496,6 +500,7 @@ impl ContactPass {
             }
         };
         let contact = |k: usize, s: u32, segment: u32, mut pr: Projection| {
+            let gap_normal = pr.normal;
             pr.normal = self.smooth_normal(view, segment, &pr);
             let d = -pr.gap;
             // A slave on a symmetry plane is only part of its particle.
@@ -505,6 +510,7 @@ impl ContactPass {
                 slave: s,
                 segment,
                 projection: pr,
+                gap_normal,
                 penetration: d,
                 force: pr.normal * f,
                 normal_force: f,

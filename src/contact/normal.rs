@@ -1,9 +1,20 @@
 //! The direction of a contact's force on a faceted master: the normal interpolated from
 //! nodal normals, over the neighbours each segment had at rest ([`ContactPass::smooth_normal`]).
 
-use super::narrow::Projection;
-use super::{ContactPass, MasterView, FEATURE_COS};
+use super::narrow::{project_any, Projection};
+use super::{ContactPass, ContactPoint, MasterView, FEATURE_COS};
+use crate::body::Body;
 use crate::math::Vec3;
+use nalgebra::Matrix3;
+
+/// How a contact turns as its slave slides over the master, the master held still
+/// ([`ContactPass::slide`]): the static solver's tangent between two deformable bodies.
+pub struct Slide {
+    /// `∇N_a`: the gradients of the corner weights (the reaction's shares), 1/m.
+    pub weights: [Vec3; 4],
+    /// `∂n/∂x`: the gradient of the force's direction (the smoothed normal), 1/m.
+    pub normal: Matrix3<f64>,
+}
 
 /// Around a master node whose particle has lost bonds, a smooth neighbour at rest that has
 /// turned from the segment a slave presses by more than [`FEATURE_ANGLE`](super::FEATURE_ANGLE) counts less in the
@@ -125,6 +136,55 @@ impl ContactPass {
             n += nodal.try_normalize(0.0).unwrap_or(own) * w;
         }
         n.try_normalize(0.0).unwrap_or(own)
+    }
+}
+
+impl ContactPass {
+    /// [`Slide`] of contact `c`, in the slave's position: central differences of the
+    /// projection and of [`ContactPass::smooth_normal`] at `±h` along two directions in the
+    /// segment's plane, `h` a thousandth of the segment (zero where a difference falls off
+    /// every segment).
+    pub fn slide(&self, bodies: &[Body], c: &ContactPoint) -> Slide {
+        let mut out = Slide {
+            weights: [Vec3::zeros(); 4],
+            normal: Matrix3::zeros(),
+        };
+        let shift = self.shift.clone();
+        let view = self.view(bodies, &shift);
+        let x = view.corners(c.segment as usize);
+        let triangle = view.segments()[c.segment as usize].is_triangle();
+        let n = c.gap_normal;
+        let p: Vec3 = x
+            .iter()
+            .zip(&c.projection.weights)
+            .map(|(x, w)| x * *w)
+            .sum();
+        let h = 1e-3 * (x[2] - x[0]).norm();
+        let t1 = n.cross(&Vec3::x()).try_normalize(0.1);
+        let Some(t1) = t1.or_else(|| n.cross(&Vec3::y()).try_normalize(0.1)) else {
+            return out;
+        };
+        if !(h > 0.0) {
+            return out;
+        }
+        for t in [t1, n.cross(&t1)] {
+            let (Some((a, _)), Some((b, _))) = (
+                project_any(p + t * h, x, triangle),
+                project_any(p - t * h, x, triangle),
+            ) else {
+                return Slide {
+                    weights: [Vec3::zeros(); 4],
+                    normal: Matrix3::zeros(),
+                };
+            };
+            for (g, (wa, wb)) in out.weights.iter_mut().zip(a.weights.iter().zip(&b.weights)) {
+                *g += t * ((wa - wb) / (2.0 * h));
+            }
+            let turn =
+                self.smooth_normal(view, c.segment, &a) - self.smooth_normal(view, c.segment, &b);
+            out.normal += turn / (2.0 * h) * t.transpose();
+        }
+        out
     }
 }
 

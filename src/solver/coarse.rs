@@ -328,7 +328,7 @@ impl CoarseSpace {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use std::path::Path;
 
     use super::super::dofs::Dofs;
@@ -344,7 +344,7 @@ mod tests {
     /// y = 0 on both, z = −1 on the lower: particles on one plane and on two), touching at
     /// the origin, two passes: springs to master nodes and, by the stabilisation, to the
     /// ground.
-    fn stacked() -> Model {
+    pub(in crate::solver) fn stacked() -> Model {
         let mesh = |name: &str| {
             format!(
                 "{:?}",
@@ -403,7 +403,7 @@ two_pass = true
     }
 
     /// A vector of the free components, deterministic.
-    fn vector(model: &Model, seed: u64) -> Dofs {
+    pub(in crate::solver) fn vector(model: &Model, seed: u64) -> Dofs {
         let mut state = seed;
         let mut next = || {
             state = state
@@ -430,7 +430,7 @@ two_pass = true
     fn the_tangent_is_symmetric_in_the_shares_and_the_coarse_matrix_is_its_projection() {
         let mut model = stacked();
         let mut blocks = vec![None; model.bodies.len()];
-        let mut tangent = Tangent::new(&model, 1.0, None, &mut blocks);
+        let mut tangent = Tangent::new(&model, 1.0, None, &mut blocks, false);
         assert!(!tangent.springs().is_empty());
         let (a, b) = (vector(&model, 1), vector(&model, 2));
         let (mut aa, mut ab) = (Dofs::zeros(&model), Dofs::zeros(&model));

@@ -99,6 +99,18 @@ impl Dofs {
     }
 
     /// Every entry zero.
+    /// `self ← alpha self`.
+    pub fn scale(&mut self, alpha: f64) {
+        for a in &mut self.pd {
+            a.par_iter_mut()
+                .with_min_len(1024)
+                .for_each(|a| *a *= alpha);
+        }
+        for a in &mut self.rigid {
+            *a *= alpha;
+        }
+    }
+
     pub fn fill_zero(&mut self) {
         for a in &mut self.pd {
             a.iter_mut().for_each(|x| *x = Vec3::zeros());

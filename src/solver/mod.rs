@@ -31,8 +31,10 @@ mod adr;
 mod coarse;
 mod dofs;
 mod explicit;
+mod krylov;
 mod newton;
 mod predict;
+mod springs;
 mod tangent;
 mod unheld;
 

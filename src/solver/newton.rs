@@ -1,7 +1,8 @@
 //! The static solver: Newton-Raphson on the out-of-balance force of Eq. 28 (METHOD.md §6),
 //! with a matrix-free tangent ([`super::tangent`]) solved by conjugate gradients with a
-//! block-Jacobi preconditioner, a line search, and load increments that cut back by
-//! themselves.
+//! block-Jacobi preconditioner (GMRES in an increment's tail, where the contacts between two
+//! deformable bodies take their unsymmetric consistent springs: [`super::krylov`]), a line
+//! search, and load increments that cut back by themselves.
 //!
 //! Each Newton iteration solves `A d = S⁻¹ R` (the tangent and the out-of-balance force of the
 //! free degrees of freedom, rows divided by each particle's share) to a relative residual
@@ -31,6 +32,7 @@
 
 use super::coarse::CoarseSpace;
 use super::dofs::Dofs;
+use super::krylov;
 use super::predict;
 use super::tangent::{scale_and_mask, Tangent};
 use super::{
@@ -53,6 +55,12 @@ pub const MIN_STEP: f64 = 1.0 / 1024.0;
 pub const MAX_LINEAR: usize = 3_000;
 /// The loosest relative residual of a linear solve.
 const ETA_MAX: f64 = 0.1;
+/// Below this many tolerances (the tail of an increment, its contacts settled) a contact
+/// between two deformable bodies gets its consistent spring ([`super::springs`]), and Newton
+/// converges in fewer iterations. Above, the symmetric one and conjugate gradients: GMRES
+/// costs more per product, and the contact set is still moving (docs/PERFORMANCE.md, "The
+/// consistent contact tangent").
+const CONSISTENT_BELOW: f64 = 100.0;
 /// Newton iterations over which an increment whose contacts no longer change must at least
 /// halve its best residual; else it has stalled and ADR takes over ([`stalled`]).
 pub const STALL_WINDOW: usize = 10;
@@ -160,7 +168,7 @@ impl State {
 
 /// The out-of-balance force of the free degrees of freedom (the model's forces evaluated),
 /// rows divided by the particles' shares (`S⁻¹ R`), and `‖R‖₂` unscaled.
-fn residual(model: &Model, out: &mut Dofs) -> f64 {
+pub(super) fn residual(model: &Model, out: &mut Dofs) -> f64 {
     let mut sq = 0.0;
     for (k, b) in model.bodies.iter().enumerate() {
         match b {
@@ -180,69 +188,6 @@ fn residual(model: &Model, out: &mut Dofs) -> f64 {
     }
     scale_and_mask(model, out);
     sq.sqrt()
-}
-
-/// Preconditioned conjugate gradients for `A x = b` in the inner product `xᵀ S y` (where
-/// `A` is symmetric: [`super::tangent`]) to `‖r‖ ≤ eta ‖b‖`, from zero or, where `warm`,
-/// from `x` as it is; returns the tangent products taken.
-#[allow(clippy::too_many_arguments)]
-fn pcg(
-    tangent: &mut Tangent,
-    space: Option<&CoarseSpace>,
-    model: &mut Model,
-    b: &Dofs,
-    eta: f64,
-    x: &mut Dofs,
-    warm: bool,
-    work: &mut [Dofs; 3],
-) -> usize {
-    let [r, z, p] = work;
-    let mut ap = Dofs::zeros(model);
-    let norm0 = b.dot(b).sqrt();
-    if !(norm0 > 0.0) {
-        x.fill_zero();
-        return 0;
-    }
-    // From `x` as it is where `warm` (one product more), else from zero.
-    let mut taken = 0;
-    if warm {
-        tangent.apply(model, x, &mut ap);
-        r.clone_from(b);
-        r.axpy(-1.0, &ap);
-        taken = 1;
-        if r.dot(r).sqrt() <= eta * norm0 {
-            return taken;
-        }
-    } else {
-        x.fill_zero();
-        r.clone_from(b);
-    }
-    tangent.precondition(space, model, r, z);
-    p.clone_from(z);
-    let mut rz = r.dot_shares(z, model);
-    for k in 1..=MAX_LINEAR {
-        tangent.apply(model, p, &mut ap);
-        let pap = p.dot_shares(&ap, model);
-        if !(pap > 0.0) {
-            // Not positive along p (a compressed bond's negative stiffness, say): keep what
-            // has been found, or take the preconditioned residual as the direction.
-            if k == 1 && !warm {
-                x.clone_from(z);
-            }
-            return k + taken;
-        }
-        let alpha = rz / pap;
-        x.axpy(alpha, p);
-        r.axpy(-alpha, &ap);
-        if r.dot(r).sqrt() <= eta * norm0 {
-            return k + taken;
-        }
-        tangent.precondition(space, model, r, z);
-        let rz_new = r.dot_shares(z, model);
-        p.xpby(z, rz_new / rz);
-        rz = rz_new;
-    }
-    MAX_LINEAR
 }
 
 /// Whether the forces just evaluated are usable: finite, and no slave through its master.
@@ -557,7 +502,15 @@ fn increment(
             )));
         }
         counts.newton += 1;
-        let mut tangent = Tangent::new(model, stabilise, previous_tangent.as_ref(), bond_blocks);
+        // In the tail the contacts' consistent (unsymmetric) springs, solved by GMRES.
+        let consistent = rel < CONSISTENT_BELOW * tolerance;
+        let mut tangent = Tangent::new(
+            model,
+            stabilise,
+            previous_tangent.as_ref(),
+            bond_blocks,
+            consistent,
+        );
         if let Some(space) = coarse.as_ref() {
             tangent.build_coarse(model, space);
         }
@@ -573,7 +526,7 @@ fn increment(
         previous = Some(rel);
         // From zero (`warm` false) or from `d` as it is.
         let mut solve = |m: &mut Model, t: &mut Tangent, b: &Dofs, x: &mut Dofs, warm: bool| {
-            pcg(t, coarse.as_ref(), m, b, eta, x, warm, &mut work)
+            krylov::solve(t, coarse.as_ref(), m, b, eta, x, warm, &mut work)
         };
         counts.linear += solve(model, &mut tangent, &rhs, &mut d, false);
         // The contacts the step makes, predicted: the solve again with their springs.
