@@ -694,7 +694,32 @@ fn line_search(model: &mut Model, d: &Dofs, g0: f64, scratch: &mut Dofs) -> bool
 
 #[cfg(test)]
 mod tests {
-    use super::{stalled, STALL_WINDOW};
+    use super::super::coarse::tests::stacked;
+    use super::super::dofs::Dofs;
+    use super::super::{applied_norm, RunStats, Silent};
+    use super::{newton, relax, residual, stalled, Counts, STALL_WINDOW};
+
+    /// Where an increment stalls, ADR takes over from the state Newton left ([`relax`]): on the
+    /// two gmsh tet4 spheres pressed together, from Newton's state at a loose tolerance it
+    /// reaches the tight one, its iterations counted apart, and the out-of-balance force
+    /// evaluated afresh there is within the tolerance.
+    #[test]
+    fn adr_takes_over_from_where_newton_left_off() {
+        let mut model = stacked();
+        newton(&mut model, 1e-2, 200, 1, &mut Silent).expect("the pair converges loosely");
+        let (mut counts, mut stats) = (Counts::default(), RunStats::default());
+        let relaxed =
+            relax(&mut model, 1e-5, &mut Silent, &mut counts, &mut stats).expect("ADR runs");
+        assert!(relaxed, "ADR stopped at residual {:.3e}", stats.residual);
+        assert!(counts.relaxed > 0 && stats.relaxation_iterations == counts.relaxed);
+        model.compute_forces();
+        let r = residual(&model, &mut Dofs::zeros(&model)) / applied_norm(&model);
+        assert!(
+            r < 1e-5,
+            "residual {r:.3e} after {} ADR iterations",
+            counts.relaxed
+        );
+    }
 
     /// The residuals and contact counts of the increments measured in docs/PERFORMANCE.md,
     /// "The static solver", in the shapes that tell them apart.
