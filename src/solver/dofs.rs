@@ -98,7 +98,6 @@ impl Dofs {
         }
     }
 
-    /// Every entry zero.
     /// `self ← alpha self`.
     pub fn scale(&mut self, alpha: f64) {
         for a in &mut self.pd {
@@ -111,6 +110,7 @@ impl Dofs {
         }
     }
 
+    /// Every entry zero.
     pub fn fill_zero(&mut self) {
         for a in &mut self.pd {
             a.iter_mut().for_each(|x| *x = Vec3::zeros());
