@@ -214,6 +214,17 @@ impl ContactPass {
         self.crack.as_ref().is_some_and(|c| c.edge_margin)
     }
 
+    /// How far outside a segment a slave that projects inside none still presses on it: on a
+    /// crack's faces (pre-crack or found again) [`CRACK_EDGE_MARGIN`] spacings, a face's edge
+    /// particle on the other face's edge; elsewhere none.
+    pub fn edge_margin(&self) -> f64 {
+        if self.is_crack() || self.found.is_some() {
+            CRACK_EDGE_MARGIN * self.spacing
+        } else {
+            0.0
+        }
+    }
+
     /// Whether this pass keeps a body's pieces apart ([`ContactPass::pieces`]).
     pub fn is_pieces(&self) -> bool {
         self.crack.as_ref().is_some_and(|c| !c.edge_margin)

@@ -530,11 +530,7 @@ impl ContactPass {
             let trial = anchor.map(|a| (a, point.slip_work));
             (Some((point, trial)), None)
         };
-        let edge_margin = if self.is_crack() || self.found.is_some() {
-            CRACK_EDGE_MARGIN * self.spacing
-        } else {
-            0.0
-        };
+        let edge_margin = self.edge_margin();
         let results: Vec<Found> = (0..self.slaves.len())
             .into_par_iter()
             .map_init(Vec::new, |projections, k| {
@@ -659,7 +655,8 @@ impl ContactPass {
     /// The slaves that may touch and are not in contact, each with the segment in front of it
     /// nearest along its normal (facing, the gap open and under two spacings; projected
     /// inside it, or where it projects inside none, the one it projects least outside of, by
-    /// no more than a tenth of its gap): `(slave, segment, projection)`. The static solver's prediction
+    /// no more than a tenth of its gap or the [`edge_margin`](Self::edge_margin) the contact
+    /// takes): `(slave, segment, projection)`. The static solver's prediction
     /// of the contacts its Newton step makes. None on the faces broken bonds opened.
     ///
     /// In front of a convex master a slave over an edge or a vertex projects outside every
@@ -675,6 +672,7 @@ impl ContactPass {
         let shift = self.shift.clone();
         let view = self.view(bodies, &shift);
         let planes = shared_planes(sb, view);
+        let edge_margin = self.edge_margin();
         (0..self.slaves.len())
             .into_par_iter()
             .filter_map(|k| {
@@ -689,7 +687,7 @@ impl ContactPass {
                     .filter_map(|&seg| {
                         let (mut pr, outside) = project_plain(sb, view, &planes, s, p, seg)?;
                         pr.normal = self.smooth_normal(view, seg, &pr);
-                        (outside <= 0.1 * pr.gap
+                        (outside <= (0.1 * pr.gap).max(edge_margin)
                             && pr.gap >= 0.0
                             && pr.gap < 2.0 * self.spacing
                             && facing.dot(&pr.normal) < 0.0)
