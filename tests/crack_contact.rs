@@ -374,6 +374,18 @@ fn an_inclined_crack_slides_and_carries_the_load_normal_to_its_faces() {
     );
 }
 
+/// `text` (an [`inclined_scene`] at Δ = 0.05 m) on the stored gmsh tet4 block
+/// `meshes/inclined_block_tet4_h005.msh` in place of the box generator.
+fn on_mesh(text: String) -> String {
+    let mesh = common::repo("meshes/inclined_block_tet4_h005.msh");
+    let generator = "generator = { shape = \"box\", min = [-0.5, 0, 0], max = [0.5, 0.5, 1.0], spacing = 0.05 }";
+    assert!(text.contains(generator), "{text}");
+    text.replace(
+        generator,
+        &format!("mesh = {:?}", mesh.display().to_string()),
+    )
+}
+
 /// The 30° cut through gmsh's default tets: the half block of the test above meshed by
 /// `meshes/inclined_block_tet4_h005.geo` (4,071 particles), cut and whole, against CalculiX's
 /// top displacement (3.676 mm) and slide (5.870 mm) on the same geometry
@@ -381,16 +393,6 @@ fn an_inclined_crack_slides_and_carries_the_load_normal_to_its_faces() {
 /// Measured: whole 0.978 mm (CalculiX 0.982), cut 3.625 mm (−1.4 %), slide 5.89 mm (+0.4 %).
 #[test]
 fn an_inclined_crack_in_gmsh_tets_slides_as_calculix_says() {
-    let mesh = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("meshes/inclined_block_tet4_h005.msh");
-    let on_mesh = |text: String| {
-        let generator = "generator = { shape = \"box\", min = [-0.5, 0, 0], max = [0.5, 0.5, 1.0], spacing = 0.05 }";
-        assert!(text.contains(generator), "{text}");
-        text.replace(
-            generator,
-            &format!("mesh = {:?}", mesh.display().to_string()),
-        )
-    };
     let (whole, s0) = common::run_text(
         &on_mesh(inclined_scene(0.05, false)),
         "crack-tilted-gmsh-whole",
@@ -428,18 +430,8 @@ fn an_inclined_crack_in_gmsh_tets_slides_as_calculix_says() {
 /// ADR's −3.6247 mm to the digits shown; docs/FRACTURE.md, "Contact on new surfaces").
 #[test]
 fn the_static_solver_closes_a_crack_in_gmsh_tets_by_newton_alone() {
-    let mesh = common::repo("meshes/inclined_block_tet4_h005.msh");
-    let generator = "generator = { shape = \"box\", min = [-0.5, 0, 0], max = [0.5, 0.5, 1.0], spacing = 0.05 }";
-    let text = inclined_scene(0.05, true)
-        .replace(
-            generator,
-            &format!("mesh = {:?}", mesh.display().to_string()),
-        )
-        .replace("kind = \"adr\"", "kind = \"static\"");
-    assert!(
-        text.contains("mesh = ") && text.contains("\"static\""),
-        "{text}"
-    );
+    let text = on_mesh(inclined_scene(0.05, true)).replace("kind = \"adr\"", "kind = \"static\"");
+    assert!(text.contains("\"static\""), "{text}");
     let (model, summary) = common::run_text(&text, "crack-tilted-gmsh-static");
     let stats = &summary.solver;
     assert!(stats.converged, "{stats:?}");
