@@ -653,26 +653,24 @@ impl ContactPass {
     }
 
     /// The slaves that may touch and are not in contact, each with the segment in front of it
-    /// nearest along its normal (facing, the gap open and under two spacings; projected
-    /// inside it, or where it projects inside none, the one it projects least outside of, by
-    /// no more than a tenth of its gap or the [`edge_margin`](Self::edge_margin) the contact
-    /// takes): `(slave, segment, projection)`. The static solver's prediction
-    /// of the contacts its Newton step makes. None on the faces broken bonds opened.
+    /// nearest along its normal (facing, the gap open and under two spacings; projected inside
+    /// it, or else the one it projects least outside of, by at most a tenth of its gap or the
+    /// [`edge_margin`](Self::edge_margin)): `(slave, segment, projection)`, the static solver's
+    /// prediction of the contacts its Newton step makes. On found faces, gaps and normals as
+    /// the contact measures them there: without, a pre-crack's faces, touching at rest, were
+    /// predicted nowhere and the first step pushed one half through the other (gmsh tet4, 30°).
     ///
-    /// In front of a convex master a slave over an edge or a vertex projects outside every
-    /// segment around it, and only once it has gone through does it project inside one: left
-    /// out, such slaves went through the window in the step that closed the contact around
-    /// them (two gmsh tet4 spheres, h = 0.045: 2-7 of 100-120 slaves at each of the first
-    /// nine Newton iterations), and the line search cut the whole step back.
+    /// A slave over an edge or vertex of a convex master projects outside every segment around
+    /// it until it has gone through: left out, such slaves went through (two gmsh tet4 spheres,
+    /// h = 0.045: 2-7 of 100-120 at each of nine iterations), and the line search cut it back.
     pub fn open_gaps(&self, bodies: &[Body]) -> Vec<(u32, u32, Projection)> {
-        if self.found.is_some() {
-            return Vec::new();
-        }
         let sb = bodies[self.slave].as_pd().expect("slave is deformable");
         let shift = self.shift.clone();
         let view = self.view(bodies, &shift);
+        let segs = view.segments();
         let planes = shared_planes(sb, view);
         let edge_margin = self.edge_margin();
+        let intact = sb.fracture.as_ref().map(|f| f.intact.as_slice());
         (0..self.slaves.len())
             .into_par_iter()
             .filter_map(|k| {
@@ -681,11 +679,19 @@ impl ContactPass {
                     return None;
                 }
                 let p = self.slave_point(sb, s);
-                let facing = slave_normal(sb, s as usize);
+                let facing = match &self.found {
+                    Some(f) => narrow::turned_normal(sb, s as usize, f.normal[s as usize], intact),
+                    None => slave_normal(sb, s as usize),
+                };
                 self.candidates(k)
                     .iter()
                     .filter_map(|&seg| {
                         let (mut pr, outside) = project_plain(sb, view, &planes, s, p, seg)?;
+                        if let Some(f) = &self.found {
+                            let start =
+                                f.reference_gap(sb, s, &segs[seg as usize], &self.shift, &pr);
+                            pr.gap -= start.min(0.0);
+                        }
                         pr.normal = self.smooth_normal(view, seg, &pr);
                         (outside <= (0.1 * pr.gap).max(edge_margin)
                             && pr.gap >= 0.0
