@@ -437,6 +437,38 @@ impl ContactPass {
         sb.position(s as usize) + self.shift.get(s as usize).copied().unwrap_or_default()
     }
 
+    /// The normal slave `s` faces its master by: on the faces broken bonds opened, the one
+    /// found there, turned as its intact bonds say.
+    fn facing_normal(&self, sb: &PdBody, s: u32) -> Vec3 {
+        match &self.found {
+            Some(f) => narrow::turned_normal(
+                sb,
+                s as usize,
+                f.normal[s as usize],
+                sb.fracture.as_ref().map(|f| f.intact.as_slice()),
+            ),
+            None => slave_normal(sb, s as usize),
+        }
+    }
+
+    /// [`project_plain`] of slave `s` at `p` on segment `seg`; on the faces broken bonds
+    /// opened, a slave that stood behind the segment before the load (where the faces'
+    /// particles were rough) starts there.
+    fn project_from_rest(
+        &self,
+        sb: &PdBody,
+        view: MasterView,
+        planes: &[(u8, u8, usize)],
+        (s, p, seg): (u32, Vec3, u32),
+    ) -> Option<(Projection, f64)> {
+        let (mut pr, outside) = project_plain(sb, view, planes, s, p, seg)?;
+        if let Some(f) = &self.found {
+            let segment = &view.segments()[seg as usize];
+            pr.gap -= f.reference_gap(sb, s, segment, &self.shift, &pr).min(0.0);
+        }
+        Some((pr, outside))
+    }
+
     /// Finds the contacts of this pass at the current positions (broad phase as needed, then
     /// narrow phase). Forces are computed, not applied.
     pub fn detect(&mut self, bodies: &[Body]) {
@@ -487,19 +519,8 @@ impl ContactPass {
         let segs = view.segments();
         let window = self.law.window;
         let planes = shared_planes(sb, view);
-        let project_on = |s: u32, p: Vec3, seg: u32| {
-            let found = project_plain(sb, view, &planes, s, p, seg);
-            match &self.found {
-                // On the faces broken bonds opened, a slave that stood behind the segment
-                // before the load (where the faces' particles were rough) starts there.
-                Some(f) => found.map(|(mut pr, outside)| {
-                    let start = f.reference_gap(sb, s, &segs[seg as usize], &self.shift, &pr);
-                    pr.gap -= start.min(0.0);
-                    (pr, outside)
-                }),
-                None => found,
-            }
-        };
+        let project_on =
+            |s: u32, p: Vec3, seg: u32| self.project_from_rest(sb, view, &planes, (s, p, seg));
         let contact = |k: usize, s: u32, segment: u32, mut pr: Projection| {
             let gap_normal = pr.normal;
             pr.normal = self.smooth_normal(view, segment, &pr);
@@ -559,15 +580,7 @@ impl ContactPass {
                 projections.extend(self.verlet.candidates[a..b].iter().filter_map(|&seg| {
                     project_on(s, p, seg).map(|(pr, outside)| (seg, pr, outside))
                 }));
-                let normal = std::cell::LazyCell::new(|| match &self.found {
-                    Some(f) => narrow::turned_normal(
-                        sb,
-                        s as usize,
-                        f.normal[s as usize],
-                        sb.fracture.as_ref().map(|f| f.intact.as_slice()),
-                    ),
-                    None => slave_normal(sb, s as usize),
-                });
+                let normal = std::cell::LazyCell::new(|| self.facing_normal(sb, s));
                 // A crack's face particle at the face's edge lies on the other face's edge;
                 // the faces' lateral strains differ by a hair, and it would drop off that edge
                 // and back in by turns: within a margin it stays on the segment it is nearest.

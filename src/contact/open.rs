@@ -4,9 +4,7 @@
 
 use rayon::prelude::*;
 
-use super::{
-    narrow, project_plain, shared_planes, slave_normal, ContactPass, Projection, NO_SEGMENT,
-};
+use super::{shared_planes, ContactPass, Projection, NO_SEGMENT};
 use crate::body::Body;
 
 impl ContactPass {
@@ -25,10 +23,8 @@ impl ContactPass {
         let sb = bodies[self.slave].as_pd().expect("slave is deformable");
         let shift = self.shift.clone();
         let view = self.view(bodies, &shift);
-        let segs = view.segments();
         let planes = shared_planes(sb, view);
         let edge_margin = self.edge_margin();
-        let intact = sb.fracture.as_ref().map(|f| f.intact.as_slice());
         // On a crack's faces, as the contact chooses: inside first, then the nearest.
         let rank = |outside: f64| match edge_margin > 0.0 {
             true => f64::from(u8::from(outside > 0.0)),
@@ -42,19 +38,12 @@ impl ContactPass {
                     return None;
                 }
                 let p = self.slave_point(sb, s);
-                let facing = match &self.found {
-                    Some(f) => narrow::turned_normal(sb, s as usize, f.normal[s as usize], intact),
-                    None => slave_normal(sb, s as usize),
-                };
+                let facing = self.facing_normal(sb, s);
                 self.candidates(k)
                     .iter()
                     .filter_map(|&seg| {
-                        let (mut pr, outside) = project_plain(sb, view, &planes, s, p, seg)?;
-                        if let Some(f) = &self.found {
-                            let start =
-                                f.reference_gap(sb, s, &segs[seg as usize], &self.shift, &pr);
-                            pr.gap -= start.min(0.0);
-                        }
+                        let (mut pr, outside) =
+                            self.project_from_rest(sb, view, &planes, (s, p, seg))?;
                         pr.normal = self.smooth_normal(view, seg, &pr);
                         (outside <= (0.1 * pr.gap).max(edge_margin)
                             && pr.gap >= 0.0
