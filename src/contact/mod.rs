@@ -53,7 +53,7 @@ pub use narrow::{
     project, project_any, project_on_plane_edge, select_across_edge, select_segment, slave_normal,
     Projection, Touch, EDGE_FACING, FACING, INSIDE_TOLERANCE,
 };
-pub use normal::Slide;
+pub use normal::{NodalTurn, Slide};
 
 use crate::body::{Body, PdBody, RigidBody};
 use crate::case::segments::MasterSegment;

@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 use crate::math::Vec3;
 use crate::model::Model;
-use crate::reduction::block_sums;
+use crate::reduction::{block_sums, BLOCK};
 
 /// The unknowns of a static run: per deformable body its particles' displacements (empty
 /// for a rigid body), per free rigid body its translation along its axis (0 otherwise).
@@ -107,6 +107,66 @@ impl Dofs {
         }
         for a in &mut self.rigid {
             *a *= alpha;
+        }
+    }
+
+    /// `self = other`, in place.
+    pub fn assign(&mut self, other: &Dofs) {
+        for (a, b) in self.pd.iter_mut().zip(&other.pd) {
+            a.par_iter_mut()
+                .zip(b.par_iter())
+                .with_min_len(1024)
+                .for_each(|(a, b)| *a = *b);
+        }
+        self.rigid.clone_from(&other.rigid);
+    }
+
+    /// `[self·v for v in basis]` in one sweep over the particles (a Krylov method's
+    /// Gram-Schmidt step), each product in [`Dofs::dot`]'s fixed order.
+    pub fn dots(&self, basis: &[Dofs]) -> Vec<f64> {
+        let m = basis.len();
+        let mut out = vec![0.0; m];
+        for (k, a) in self.pd.iter().enumerate() {
+            let blocks: Vec<Vec<f64>> = (0..a.len().div_ceil(BLOCK))
+                .into_par_iter()
+                .with_min_len(4)
+                .map(|b| {
+                    let mut acc = vec![0.0; m];
+                    for i in b * BLOCK..a.len().min((b + 1) * BLOCK) {
+                        let x = a[i];
+                        for (s, v) in acc.iter_mut().zip(basis) {
+                            *s += x.dot(&v.pd[k][i]);
+                        }
+                    }
+                    acc
+                })
+                .collect();
+            for (j, o) in out.iter_mut().enumerate() {
+                *o += blocks.iter().fold(0.0, |x, b| x + b[j]);
+            }
+        }
+        for (o, v) in out.iter_mut().zip(basis) {
+            *o += self.rigid_dot(v);
+        }
+        out
+    }
+
+    /// `self −= Σ c_j basis_j`, in one sweep over the particles.
+    pub fn subtract(&mut self, c: &[f64], basis: &[Dofs]) {
+        for (k, a) in self.pd.iter_mut().enumerate() {
+            a.par_iter_mut()
+                .enumerate()
+                .with_min_len(1024)
+                .for_each(|(i, x)| {
+                    for (cj, v) in c.iter().zip(basis) {
+                        *x -= v.pd[k][i] * *cj;
+                    }
+                });
+        }
+        for (r, a) in self.rigid.iter_mut().enumerate() {
+            for (cj, v) in c.iter().zip(basis) {
+                *a -= cj * v.rigid[r];
+            }
         }
     }
 

@@ -122,10 +122,18 @@ fn gmres(
         x.fill_zero();
     }
     let mut taken = 0;
+    // The basis vectors, kept from solve to solve of this tangent: allocated once.
+    let mut pool = std::mem::take(&mut tangent.pool);
     let mut basis: Vec<Dofs> = Vec::with_capacity(RESTART + 1);
+    let fresh = |pool: &mut Vec<Dofs>, from: &Dofs, scale: f64| {
+        let mut v = pool.pop().unwrap_or_else(|| from.clone());
+        v.assign(from);
+        v.scale(scale);
+        v
+    };
     while taken < MAX_LINEAR {
         // r = b − A x
-        r.clone_from(b);
+        r.assign(b);
         if warm || taken > 0 {
             tangent.apply(model, x, w);
             r.axpy(-1.0, w);
@@ -133,12 +141,10 @@ fn gmres(
         }
         let beta = r.dot(r).sqrt();
         if beta <= eta * norm0 {
-            return taken;
+            break;
         }
-        basis.clear();
-        let mut v0 = r.clone();
-        v0.scale(1.0 / beta);
-        basis.push(v0);
+        pool.append(&mut basis);
+        basis.push(fresh(&mut pool, r, 1.0 / beta));
         let mut h = DMatrix::<f64>::zeros(RESTART + 1, RESTART);
         let mut y = DVector::<f64>::zeros(0);
         let mut done = false;
@@ -146,11 +152,14 @@ fn gmres(
             tangent.precondition(space, model, &basis[j], z);
             tangent.apply(model, z, w);
             taken += 1;
-            // Modified Gram-Schmidt.
-            for (i, v) in basis.iter().enumerate() {
-                let hij = w.dot(v);
-                h[(i, j)] = hij;
-                w.axpy(-hij, v);
+            // Classical Gram-Schmidt twice (as stable as the modified one, in two sweeps over
+            // the particles for the whole basis instead of two per basis vector).
+            for _ in 0..2 {
+                let c = w.dots(&basis);
+                w.subtract(&c, &basis);
+                for (i, ci) in c.iter().enumerate() {
+                    h[(i, j)] += ci;
+                }
             }
             let hn = w.dot(w).sqrt();
             h[(j + 1, j)] = hn;
@@ -167,21 +176,20 @@ fn gmres(
                 done = true;
                 break;
             }
-            let mut v = w.clone();
-            v.scale(1.0 / hn);
-            basis.push(v);
+            basis.push(fresh(&mut pool, w, 1.0 / hn));
         }
         // x += M⁻¹ V y
         w.fill_zero();
-        for (v, c) in basis.iter().zip(y.iter()) {
-            w.axpy(*c, v);
-        }
+        let minus: Vec<f64> = y.iter().map(|c| -c).collect();
+        w.subtract(&minus, &basis[..minus.len()]);
         tangent.precondition(space, model, w, z);
         x.axpy(1.0, z);
         if done || y.is_empty() {
-            return taken;
+            break;
         }
     }
+    pool.append(&mut basis);
+    tangent.pool = pool;
     taken
 }
 
@@ -252,7 +260,8 @@ mod tests {
         };
         let (s, c) = (mismatch(&mut symmetric), mismatch(&mut consistent));
         eprintln!("relative mismatch: symmetric {s:.3e}, consistent {c:.3e}");
-        assert!(c < 0.25 * s, "consistent {c:.3e} against symmetric {s:.3e}");
+        // Without the nodal normals' derivative 0.081 of the symmetric one's.
+        assert!(c < 0.02 * s, "consistent {c:.3e} against symmetric {s:.3e}");
 
         let b = vector(&model, 4);
         let mut work = [

@@ -4,7 +4,8 @@
 //! bodies, in the tail of an increment, a contact's spring is the consistent one, not
 //! symmetric: the gap's gradient is the segment's own normal where the force acts along the
 //! smoothed one, and the force's direction and the reaction's shares turn as the slave slides
-//! ([`crate::contact::Slide`]).
+//! ([`crate::contact::Slide`]); the force's direction turns with the master's nodes too
+//! ([`crate::contact::ContactPass::nodal_turn`], held by [`super::tangent::Tangent`]).
 
 use nalgebra::Matrix3;
 

@@ -72,6 +72,11 @@ pub(super) struct Tangent {
     /// How many of `springs` are the state's own; the rest are the predicted contacts'
     /// ([`super::predict`]).
     own: usize,
+    /// Consistent contacts between two deformable bodies: the spring's index and how its
+    /// force turns with the master's nodes ([`crate::contact::ContactPass::nodal_turn`]).
+    rings: Vec<(usize, crate::contact::NodalTurn)>,
+    /// GMRES's basis vectors, kept between the solves of this tangent ([`super::krylov`]).
+    pub(super) pool: Vec<Dofs>,
 }
 
 /// The tangent of a bond `w n⊗n`-like block: `ξξᵀ/|ξ|²` (linearised) or
@@ -229,7 +234,21 @@ impl Tangent {
             })
             .collect();
         let springs_len = springs.len();
+        // A consistent spring's force also turns as the master's nodes move (the nodal
+        // normals it is interpolated from follow their segments).
+        let mut rings = Vec::new();
+        for (i, s) in springs.iter().enumerate() {
+            if !s.contact || s.turn == Matrix3::zeros() {
+                continue;
+            }
+            let pass = &model.passes[s.pass];
+            if let Some(c) = pass.contacts.iter().find(|c| c.slave == s.slave) {
+                rings.push((i, pass.nodal_turn(&model.bodies, c)));
+            }
+        }
         Tangent {
+            pool: Vec::new(),
+            rings,
             springs,
             current,
             block_inverse,
@@ -327,6 +346,17 @@ impl Tangent {
                 for (n, g) in nodes.iter().zip(&s.slide) {
                     out.pd[body][*n as usize] += s.normal * g.dot(&u);
                 }
+            }
+        }
+        for (i, ring) in &self.rings {
+            let s = &self.springs[*i];
+            if let Master::Nodes { body, .. } = s.master {
+                let mut f = Vec3::zeros();
+                for (b, g) in ring {
+                    f -= g * v.pd[body][*b as usize];
+                }
+                out.pd[s.body][s.slave as usize] += f;
+                s.master.react(f, out);
             }
         }
         scale_and_mask(model, out);
