@@ -151,23 +151,52 @@ impl Dofs {
         out
     }
 
-    /// `self −= Σ c_j basis_j`, in one sweep over the particles.
-    pub fn subtract(&mut self, c: &[f64], basis: &[Dofs]) {
+    /// `self −= Σ c_j basis_j`, in one sweep over the particles; then, from the same sweep,
+    /// `[self·v for v in basis]` where `dots`, else `[self·self]`, each product in
+    /// [`Dofs::dot`]'s fixed order (a Krylov method's Gram-Schmidt: one pass over the basis
+    /// where an update and the next products would take two).
+    pub fn subtract(&mut self, c: &[f64], basis: &[Dofs], dots: bool) -> Vec<f64> {
+        let m = if dots { basis.len() } else { 1 };
+        let mut out = vec![0.0; m];
         for (k, a) in self.pd.iter_mut().enumerate() {
-            a.par_iter_mut()
+            let blocks: Vec<Vec<f64>> = a
+                .par_chunks_mut(BLOCK)
                 .enumerate()
-                .with_min_len(1024)
-                .for_each(|(i, x)| {
-                    for (cj, v) in c.iter().zip(basis) {
-                        *x -= v.pd[k][i] * *cj;
+                .map(|(b, chunk)| {
+                    let mut acc = vec![0.0; m];
+                    for (o, x) in chunk.iter_mut().enumerate() {
+                        let i = b * BLOCK + o;
+                        for (cj, v) in c.iter().zip(basis) {
+                            *x -= v.pd[k][i] * *cj;
+                        }
+                        if dots {
+                            for (s, v) in acc.iter_mut().zip(basis) {
+                                *s += x.dot(&v.pd[k][i]);
+                            }
+                        } else {
+                            acc[0] += x.dot(x);
+                        }
                     }
-                });
+                    acc
+                })
+                .collect();
+            for (j, o) in out.iter_mut().enumerate() {
+                *o += blocks.iter().fold(0.0, |x, b| x + b[j]);
+            }
         }
         for (r, a) in self.rigid.iter_mut().enumerate() {
             for (cj, v) in c.iter().zip(basis) {
                 *a -= cj * v.rigid[r];
             }
         }
+        if dots {
+            for (o, v) in out.iter_mut().zip(basis) {
+                *o += self.rigid_dot(v);
+            }
+        } else {
+            out[0] += self.rigid_dot(self);
+        }
+        out
     }
 
     /// Every entry zero.

@@ -152,16 +152,16 @@ fn gmres(
             tangent.precondition(space, model, &basis[j], z);
             tangent.apply(model, z, w);
             taken += 1;
-            // Classical Gram-Schmidt twice (as stable as the modified one, in two sweeps over
-            // the particles for the whole basis instead of two per basis vector).
-            for _ in 0..2 {
-                let c = w.dots(&basis);
-                w.subtract(&c, &basis);
-                for (i, ci) in c.iter().enumerate() {
-                    h[(i, j)] += ci;
-                }
+            // Classical Gram-Schmidt twice (as stable as the modified one), in three sweeps
+            // over the particles for the whole basis where the modified one takes two per
+            // basis vector: the products, the update with the next products, the update
+            // with the norm.
+            let first = w.dots(&basis);
+            let second = w.subtract(&first, &basis, true);
+            let hn = w.subtract(&second, &basis, false)[0].sqrt();
+            for (i, (a, b)) in first.iter().zip(&second).enumerate() {
+                h[(i, j)] = a + b;
             }
-            let hn = w.dot(w).sqrt();
             h[(j + 1, j)] = hn;
             let m = h.view((0, 0), (j + 2, j + 1)).into_owned();
             let mut g = DVector::<f64>::zeros(j + 2);
@@ -181,7 +181,7 @@ fn gmres(
         // x += M⁻¹ V y
         w.fill_zero();
         let minus: Vec<f64> = y.iter().map(|c| -c).collect();
-        w.subtract(&minus, &basis[..minus.len()]);
+        w.subtract(&minus, &basis[..minus.len()], false);
         tangent.precondition(space, model, w, z);
         x.axpy(1.0, z);
         if done || y.is_empty() {
