@@ -59,7 +59,7 @@ const ETA_MAX: f64 = 0.1;
 /// form) a contact between two deformable bodies gets its consistent spring
 /// ([`super::springs`]), and Newton converges in fewer iterations. Above, the symmetric one
 /// and conjugate gradients: the contact set is still moving. With the nodal normals'
-/// derivative in the spring, 10⁴ took the gmsh sphere pairs in 15-45 % fewer Newton
+/// derivative in the spring, 10⁴ took the gmsh sphere pairs in 8-46 % fewer Newton
 /// iterations than the 100 before; 10⁶ sent a pair with one pass to GMRES solves of
 /// thousands of products (docs/PERFORMANCE.md, "The nodal normals' derivative").
 const CONSISTENT_BELOW: f64 = 1e4;
