@@ -116,12 +116,7 @@ impl ContactPass {
                 continue;
             }
             let node = nodes[k] as usize;
-            let Some(around) = self
-                .node_seg_offsets
-                .get(node)
-                .zip(self.node_seg_offsets.get(node + 1))
-                .map(|(&a, &b)| &self.node_segs[a as usize..b as usize])
-            else {
+            let Some(around) = self.segments_around(node) else {
                 n += own * w;
                 continue;
             };
@@ -206,6 +201,14 @@ impl ContactPass {
 }
 
 impl ContactPass {
+    /// The master segments that meet at `node` (none where the node has no list).
+    fn segments_around(&self, node: usize) -> Option<&[u32]> {
+        self.node_seg_offsets
+            .get(node)
+            .zip(self.node_seg_offsets.get(node + 1))
+            .map(|(&a, &b)| &self.node_segs[a as usize..b as usize])
+    }
+
     /// How the force's direction of contact `c` turns as the master's nodes move, the slave
     /// held: `F ∂n/∂x_b` (`F` the normal force) for every node `b` of the segments whose
     /// area vectors make the nodal normals of `c`'s segment ([`ContactPass::smooth_normal`]),
@@ -244,12 +247,7 @@ impl ContactPass {
                 continue;
             }
             let node = nodes[k] as usize;
-            let Some(around) = self
-                .node_seg_offsets
-                .get(node)
-                .zip(self.node_seg_offsets.get(node + 1))
-                .map(|(&a, &b)| &self.node_segs[a as usize..b as usize])
-            else {
+            let Some(around) = self.segments_around(node) else {
                 raw += own * w;
                 continue;
             };

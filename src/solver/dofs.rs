@@ -121,40 +121,11 @@ impl Dofs {
         self.rigid.clone_from(&other.rigid);
     }
 
-    /// `[self·v for v in basis]` in one sweep over the particles (a Krylov method's
-    /// Gram-Schmidt step), each product in [`Dofs::dot`]'s fixed order.
-    pub fn dots(&self, basis: &[Dofs]) -> Vec<f64> {
-        let m = basis.len();
-        let mut out = vec![0.0; m];
-        for (k, a) in self.pd.iter().enumerate() {
-            let blocks: Vec<Vec<f64>> = (0..a.len().div_ceil(BLOCK))
-                .into_par_iter()
-                .with_min_len(4)
-                .map(|b| {
-                    let mut acc = vec![0.0; m];
-                    for i in b * BLOCK..a.len().min((b + 1) * BLOCK) {
-                        let x = a[i];
-                        for (s, v) in acc.iter_mut().zip(basis) {
-                            *s += x.dot(&v.pd[k][i]);
-                        }
-                    }
-                    acc
-                })
-                .collect();
-            for (j, o) in out.iter_mut().enumerate() {
-                *o += blocks.iter().fold(0.0, |x, b| x + b[j]);
-            }
-        }
-        for (o, v) in out.iter_mut().zip(basis) {
-            *o += self.rigid_dot(v);
-        }
-        out
-    }
-
     /// `self −= Σ c_j basis_j`, in one sweep over the particles; then, from the same sweep,
     /// `[self·v for v in basis]` where `dots`, else `[self·self]`, each product in
     /// [`Dofs::dot`]'s fixed order (a Krylov method's Gram-Schmidt: one pass over the basis
-    /// where an update and the next products would take two).
+    /// where an update and the next products would take two; with no `c`, the products
+    /// alone).
     pub fn subtract(&mut self, c: &[f64], basis: &[Dofs], dots: bool) -> Vec<f64> {
         let m = if dots { basis.len() } else { 1 };
         let mut out = vec![0.0; m];

@@ -156,7 +156,7 @@ fn gmres(
             // over the particles for the whole basis where the modified one takes two per
             // basis vector: the products, the update with the next products, the update
             // with the norm.
-            let first = w.dots(&basis);
+            let first = w.subtract(&[], &basis, true);
             let second = w.subtract(&first, &basis, true);
             let hn = w.subtract(&second, &basis, false)[0].sqrt();
             for (i, (a, b)) in first.iter().zip(&second).enumerate() {
