@@ -28,6 +28,7 @@
 //! | the monitor, the statistics, the free-direction mask, the checks both share | this module |
 
 mod adr;
+mod cluster;
 mod coarse;
 mod dofs;
 mod explicit;

@@ -40,6 +40,7 @@
 
 use nalgebra::Matrix3;
 
+use super::cluster::Cluster;
 use super::coarse::CoarseSpace;
 use super::dofs::Dofs;
 use super::springs::pass_springs;
@@ -77,6 +78,9 @@ pub(super) struct Tangent {
     rings: Vec<(usize, crate::contact::NodalTurn)>,
     /// GMRES's basis vectors, kept between the solves of this tangent ([`super::krylov`]).
     pub(super) pool: Vec<Dofs>,
+    /// The contact cluster's block of the preconditioner, where springs join two
+    /// deformable bodies.
+    cluster: Option<Cluster>,
 }
 
 /// The tangent of a bond `w n⊗n`-like block: `ξξᵀ/|ξ|²` (linearised) or
@@ -211,6 +215,9 @@ impl Tangent {
                 Master::Ground => {}
             }
         }
+        // Slaves and master nodes that a spring between two deformable bodies joins: solved
+        // together in the preconditioner, their coupling being what block Jacobi misses.
+        let cluster = Cluster::new(model, &springs, &blocks);
         let block_inverse = model
             .bodies
             .iter()
@@ -247,6 +254,7 @@ impl Tangent {
             }
         }
         Tangent {
+            cluster,
             pool: Vec::new(),
             rings,
             springs,
@@ -273,6 +281,18 @@ impl Tangent {
         self.springs.iter().all(|s| {
             s.gradient == s.normal && s.slide == [Vec3::zeros(); 4] && s.turn == Matrix3::zeros()
         })
+    }
+
+    /// Whether the preconditioner solves a contact cluster whole.
+    #[cfg(test)]
+    pub fn has_cluster(&self) -> bool {
+        self.cluster.is_some()
+    }
+
+    /// Block Jacobi alone, where it took a contact cluster whole.
+    #[cfg(test)]
+    pub fn drop_cluster(&mut self) {
+        self.cluster = None;
     }
 
     /// The springs of this tangent (contacts and the stabilisation's).
@@ -362,7 +382,8 @@ impl Tangent {
         scale_and_mask(model, out);
     }
 
-    /// `z = M⁻¹ r`: block Jacobi, plus the coarse space's correction
+    /// `z = M⁻¹ r`: block Jacobi (the contact cluster's block solved whole), plus the coarse
+    /// space's correction
     /// `P (Pᵀ K P)⁻¹ Pᵀ S r` where one is given.
     pub fn precondition(&self, space: Option<&CoarseSpace>, model: &Model, r: &Dofs, z: &mut Dofs) {
         for ((z, r), inv) in z.pd.iter_mut().zip(&r.pd).zip(&self.block_inverse) {
@@ -373,6 +394,9 @@ impl Tangent {
         }
         for ((z, r), inv) in z.rigid.iter_mut().zip(&r.rigid).zip(&self.rigid_inverse) {
             *z = r * inv;
+        }
+        if let Some(c) = &self.cluster {
+            c.apply(model, r, z);
         }
         if let (Some(space), Some(factor)) = (space, &self.coarse) {
             space.correct(model, factor, r, z);
