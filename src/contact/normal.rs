@@ -116,35 +116,10 @@ impl ContactPass {
                 continue;
             }
             let node = nodes[k] as usize;
-            let Some(around) = self.segments_around(node) else {
+            let Some((nodal, _)) = self.nodal_sum(view, node, segment, own, |_, _| {}) else {
                 n += own * w;
                 continue;
             };
-            let mut nodal = Vec3::zeros();
-            let this = self.reference_normals[segment as usize];
-            let broken = view.pd().is_some_and(|mb| mb.damage(node) > 0.0);
-            for &t in around {
-                // A smooth neighbour at rest stays one: the set does not change as the
-                // surface deforms, so the normal is a continuous function of the nodes.
-                if self.reference_normals[t as usize].dot(&this) > FEATURE_COS {
-                    let x = view.corners(t as usize);
-                    // Twice the area times the unit normal (Eq. 18's diagonals).
-                    let a = (x[2] - x[0]).cross(&(x[3] - x[1]));
-                    nodal += if broken {
-                        a * folded_weight(a.dot(&own), a.norm())
-                    } else {
-                        a
-                    };
-                }
-            }
-            if let Some(mb) = view.pd() {
-                let on = mb.case.ghosts.on_plane.get(node).copied().unwrap_or(0);
-                for (b, plane) in mb.case.ghosts.planes.iter().enumerate() {
-                    if on & (1 << b) != 0 {
-                        nodal[plane.axis] = 0.0;
-                    }
-                }
-            }
             n += nodal.try_normalize(0.0).unwrap_or(own) * w;
         }
         n.try_normalize(0.0).unwrap_or(own)
@@ -209,6 +184,53 @@ impl ContactPass {
             .map(|(&a, &b)| &self.node_segs[a as usize..b as usize])
     }
 
+    /// The area vectors of the smooth neighbours of `segment` around `node`, summed (a
+    /// folded neighbour's weighted, [`folded_weight`]; each neighbour and its weight passed
+    /// to `each`), with the component normal to a symmetry plane the node lies on zeroed, and
+    /// the mask that zeroes it; `None` where the node has no list of segments. The one sum
+    /// behind [`ContactPass::smooth_normal`]'s nodal normals and
+    /// [`ContactPass::nodal_turn`]'s derivative of them.
+    fn nodal_sum(
+        &self,
+        view: MasterView,
+        node: usize,
+        segment: u32,
+        own: Vec3,
+        mut each: impl FnMut(u32, f64),
+    ) -> Option<(Vec3, Vec3)> {
+        let around = self.segments_around(node)?;
+        let this = self.reference_normals[segment as usize];
+        let broken = view.pd().is_some_and(|mb| mb.damage(node) > 0.0);
+        let mut nodal = Vec3::zeros();
+        for &t in around {
+            // A smooth neighbour at rest stays one: the set does not change as the surface
+            // deforms, so the normal is a continuous function of the nodes.
+            if self.reference_normals[t as usize].dot(&this) > FEATURE_COS {
+                let x = view.corners(t as usize);
+                // Twice the area times the unit normal (Eq. 18's diagonals).
+                let a = (x[2] - x[0]).cross(&(x[3] - x[1]));
+                let fw = if broken {
+                    folded_weight(a.dot(&own), a.norm())
+                } else {
+                    1.0
+                };
+                nodal += a * fw;
+                each(t, fw);
+            }
+        }
+        let mut keep = Vec3::repeat(1.0);
+        if let Some(mb) = view.pd() {
+            let on = mb.case.ghosts.on_plane.get(node).copied().unwrap_or(0);
+            for (b, plane) in mb.case.ghosts.planes.iter().enumerate() {
+                if on & (1 << b) != 0 {
+                    nodal[plane.axis] = 0.0;
+                    keep[plane.axis] = 0.0;
+                }
+            }
+        }
+        Some((nodal, keep))
+    }
+
     /// How the force's direction of contact `c` turns as the master's nodes move, the slave
     /// held: `F ∂n/∂x_b` (`F` the normal force) for every node `b` of the segments whose
     /// area vectors make the nodal normals of `c`'s segment ([`ContactPass::smooth_normal`]),
@@ -247,37 +269,13 @@ impl ContactPass {
                 continue;
             }
             let node = nodes[k] as usize;
-            let Some(around) = self.segments_around(node) else {
+            let mut ring = Vec::new();
+            let Some((nodal, keep)) =
+                self.nodal_sum(view, node, segment, own, |t, fw| ring.push((t, fw)))
+            else {
                 raw += own * w;
                 continue;
             };
-            let this = self.reference_normals[segment as usize];
-            let broken = view.pd().is_some_and(|mb| mb.damage(node) > 0.0);
-            let mut nodal = Vec3::zeros();
-            let mut ring = Vec::new();
-            for &t in around {
-                if self.reference_normals[t as usize].dot(&this) > FEATURE_COS {
-                    let x = view.corners(t as usize);
-                    let a = (x[2] - x[0]).cross(&(x[3] - x[1]));
-                    let fw = if broken {
-                        folded_weight(a.dot(&own), a.norm())
-                    } else {
-                        1.0
-                    };
-                    nodal += a * fw;
-                    ring.push((t, fw));
-                }
-            }
-            let mut keep = Vec3::repeat(1.0);
-            if let Some(mb) = view.pd() {
-                let on = mb.case.ghosts.on_plane.get(node).copied().unwrap_or(0);
-                for (b, plane) in mb.case.ghosts.planes.iter().enumerate() {
-                    if on & (1 << b) != 0 {
-                        nodal[plane.axis] = 0.0;
-                        keep[plane.axis] = 0.0;
-                    }
-                }
-            }
             let len = nodal.norm();
             if !(len > 0.0) {
                 raw += own * w;
