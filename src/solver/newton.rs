@@ -541,7 +541,7 @@ fn increment(
         // The predicted contacts' pull is no part of the residual: where the step they gave
         // does not go down the energy, the plain one.
         if !(g0 > 0.0) && predicted > 0 {
-            tangent.predict([]);
+            tangent.predict([], &[]);
             counts.linear += solve(model, &mut tangent, &rhs, &mut d, false);
             g0 = d.dot_shares(&rhs, model);
         }

@@ -10,8 +10,14 @@
 //! gap the step closes, `g + n·(d_s − Σ N_a d_a) < 0`, gets a spring that starts where it
 //! touches, `f = −k (g + n·Δd) n`: the stiffness `k n⊗n` in the tangent and `−k g n` (its
 //! reaction on the master's nodes) on the right-hand side; a slave whose spring would pull
-//! is let go. The residual and the line search are the model's own: the prediction changes
-//! the step's direction, not the equilibrium.
+//! is let go. The other half of the active set: a contact of the state whose linearised
+//! force `F − k ∇g·(d_s − Σ N_a d_a)` the step would turn into a pull is let go too (its spring
+//! out of the tangent, its force out of the right-hand side). Without it a body that the
+//! first iterations pressed too deep was pulled out one ring of contacts a Newton iteration,
+//! its springs holding it as if they were glued (gmsh's tet10 sphere on its copy, 111,688
+//! particles: the contact 536 slaves deep, then 20 iterations down to 304; docs/PERFORMANCE.md,
+//! "The contacts a Newton step makes"). The residual and the line search are the model's own:
+//! the prediction changes the step's direction, not the equilibrium.
 
 use super::dofs::Dofs;
 use super::tangent::{master_of, scale_and_mask, Spring, Tangent};
@@ -33,21 +39,86 @@ pub(super) fn with_contacts(
     mut solve: impl FnMut(&mut Model, &mut Tangent, &Dofs, &mut Dofs) -> usize,
 ) -> usize {
     let open = open_slaves(model);
+    let held = held_contacts(model, tangent);
     let mut products = 0;
-    if open.is_empty() {
+    if open.is_empty() && held.is_empty() {
         return products;
     }
     let mut chosen = vec![false; open.len()];
+    let mut released = vec![false; tangent.own()];
     let mut pressed = Dofs::zeros(model);
     for _ in 0..ROUNDS {
-        if !choose(&open, d, &mut chosen) {
+        let closed = choose(&open, d, &mut chosen);
+        let opened = release(&held, d, &mut released);
+        if !(closed || opened) {
             break;
         }
         let springs = springs_and_rhs(model, &open, &chosen, rhs, &mut pressed);
-        tangent.predict(springs);
+        let_go(model, &held, &released, &mut pressed);
+        tangent.predict(springs, &released);
         products += solve(model, tangent, &pressed, d);
     }
     products
+}
+
+/// A contact of the state: its spring's index in the tangent, the spring, and the force
+/// on its slave (N, the pass's weight and the slave's share included).
+struct Held {
+    index: usize,
+    spring: Spring,
+    force: Vec3,
+    normal_force: f64,
+}
+
+/// The state's contacts, as the tangent's own springs hold them.
+fn held_contacts(model: &Model, tangent: &Tangent) -> Vec<Held> {
+    tangent
+        .own_contacts()
+        .filter_map(|(index, s)| {
+            let c = model.passes[s.pass]
+                .contacts
+                .iter()
+                .find(|c| c.slave == s.slave)?;
+            Some(Held {
+                index,
+                spring: *s,
+                force: c.force,
+                normal_force: c.normal_force,
+            })
+        })
+        .collect()
+}
+
+/// Which of `held` the step `d` lets go: those whose linearised normal force,
+/// `F − k ∇g·(d_s − Σ N_a d_a)`, would pull. True if that changed.
+fn release(held: &[Held], d: &Dofs, released: &mut [bool]) -> bool {
+    let mut changed = false;
+    for h in held {
+        let s = &h.spring;
+        let u = d.pd[s.body][s.slave as usize] - s.master.motion(d);
+        let now = h.normal_force - s.k * s.gradient.dot(&u) <= 0.0;
+        changed |= now != released[h.index];
+        released[h.index] = now;
+    }
+    changed
+}
+
+/// Takes the released contacts' forces out of `out` (already scaled and masked): the step's
+/// linear model has them open. Returns how many.
+fn let_go(model: &Model, held: &[Held], released: &[bool], out: &mut Dofs) -> usize {
+    let mut gone = Dofs::zeros(model);
+    let mut count = 0;
+    for h in held.iter().filter(|h| released[h.index]) {
+        let s = &h.spring;
+        gone.pd[s.body][s.slave as usize] -= h.force;
+        s.master.react(-h.force, &mut gone);
+        count += 1;
+    }
+    if count > 0 {
+        scale_and_mask(model, &mut gone);
+        out.axpy(1.0, &gone);
+    }
+    count
 }
 
 /// An open slave in front of a master segment: the spring it would get.
@@ -146,4 +217,57 @@ fn springs_and_rhs(
     scale_and_mask(model, out);
     out.axpy(1.0, rhs);
     springs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::coarse::tests::stacked;
+    use super::super::dofs::Dofs;
+    use super::super::newton::newton;
+    use super::super::tangent::Tangent;
+    use super::super::Silent;
+    use super::{held_contacts, let_go, release};
+
+    /// At the pressed gmsh tet4 pair's equilibrium: a step that leaves the bodies where they
+    /// are keeps every contact; one that lifts the upper body by more than any contact's
+    /// `F/k` lets every one go, and the right-hand side loses exactly their forces.
+    #[test]
+    fn a_step_that_pulls_a_contact_lets_it_go() {
+        let mut model = stacked();
+        newton(&mut model, 1e-5, 200, 1, &mut Silent).expect("the pair converges");
+        let mut blocks = vec![None; model.bodies.len()];
+        let tangent = Tangent::new(&model, 0.0, None, &mut blocks, false);
+        let held = held_contacts(&model, &tangent);
+        assert!(held.len() > 10, "{} contacts", held.len());
+        let mut released = vec![false; tangent.own()];
+        let still = Dofs::zeros(&model);
+        assert!(!release(&held, &still, &mut released));
+        assert!(released.iter().all(|r| !r));
+        let lift = held
+            .iter()
+            .map(|h| h.normal_force / h.spring.k)
+            .fold(0.0, f64::max);
+        // The upper body (the first pass's slave) lifted whole, away from the lower one.
+        let upper = model.passes[0].slave;
+        let mut up = Dofs::zeros(&model);
+        up.pd[upper].fill(crate::math::Vec3::z() * (3.0 * lift));
+        assert!(release(&held, &up, &mut released));
+        assert_eq!(released.iter().filter(|&&r| r).count(), held.len());
+        let mut out = Dofs::zeros(&model);
+        let_go(&model, &held, &released, &mut out);
+        // The contacts' forces taken out: the upper body loses the lift the lower one gave
+        // it, and the lower the reaction (along z no support holds a particle near the pole).
+        let lifted = |b: usize| -> f64 {
+            let pd = model.bodies[b].as_pd().expect("deformable");
+            (0..pd.len())
+                .map(|i| out.pd[b][i].z * pd.case.ghosts.share(i))
+                .sum()
+        };
+        let (top, bottom) = (lifted(upper), lifted(model.passes[0].master));
+        assert!(top < 0.0, "{top}");
+        assert!(
+            (top + bottom).abs() < 1e-9 * top.abs(),
+            "{top} against {bottom}"
+        );
+    }
 }

@@ -73,6 +73,9 @@ pub(super) struct Tangent {
     /// How many of `springs` are the state's own; the rest are the predicted contacts'
     /// ([`super::predict`]).
     own: usize,
+    /// Per own spring: whether the step's contacts left it out (a contact whose linearised
+    /// force would pull, [`super::predict`]).
+    released: Vec<bool>,
     /// Consistent contacts between two deformable bodies: the spring's index and how its
     /// force turns with the master's nodes ([`crate::contact::ContactPass::nodal_turn`]).
     rings: Vec<(usize, crate::contact::NodalTurn)>,
@@ -264,6 +267,7 @@ impl Tangent {
             scratch: vec![Vec::new(); nb],
             coarse: None,
             own: springs_len,
+            released: vec![false; springs_len],
         }
     }
 
@@ -301,11 +305,29 @@ impl Tangent {
         &self.springs
     }
 
-    /// Replaces the predicted contacts' springs ([`super::predict`]) by `predicted`; the
+    /// Replaces the predicted contacts' springs ([`super::predict`]) by `predicted`, and
+    /// leaves out the own springs flagged in `released` (all kept where it is empty); the
     /// preconditioner stays the state's own.
-    pub fn predict(&mut self, predicted: impl IntoIterator<Item = Spring>) {
+    pub fn predict(&mut self, predicted: impl IntoIterator<Item = Spring>, released: &[bool]) {
         self.springs.truncate(self.own);
         self.springs.extend(predicted);
+        self.released.fill(false);
+        for (r, &off) in self.released.iter_mut().zip(released) {
+            *r = off;
+        }
+    }
+
+    /// The state's own contact springs, with their index.
+    pub fn own_contacts(&self) -> impl Iterator<Item = (usize, &Spring)> {
+        self.springs[..self.own]
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.contact)
+    }
+
+    /// How many springs are the state's own.
+    pub fn own(&self) -> usize {
+        self.own
     }
 
     /// `out = A v` (fixed components zero).
@@ -355,7 +377,10 @@ impl Tangent {
             }
             out.rigid[k] = 0.0;
         }
-        for s in &self.springs {
+        for (i, s) in self.springs.iter().enumerate() {
+            if self.released.get(i) == Some(&true) {
+                continue;
+            }
             let vs = v.pd[s.body][s.slave as usize];
             let vm = s.master.motion(v);
             let u = vs - vm;
@@ -369,6 +394,9 @@ impl Tangent {
             }
         }
         for (i, ring) in &self.rings {
+            if self.released[*i] {
+                continue;
+            }
             let s = &self.springs[*i];
             if let Master::Nodes { body, .. } = s.master {
                 let mut f = Vec3::zeros();
