@@ -14,9 +14,9 @@
 //! force `F − k ∇g·(d_s − Σ N_a d_a)` the step would turn into a pull is let go too (its spring
 //! out of the tangent, its force out of the right-hand side). Without it a body that the
 //! first iterations pressed too deep was pulled out one ring of contacts a Newton iteration,
-//! its springs holding it as if they were glued (gmsh's tet10 sphere on its copy, 111,688
-//! particles: the contact 536 slaves deep, then 20 iterations down to 304; docs/PERFORMANCE.md,
-//! "The contacts a Newton step makes"). The residual and the line search are the model's own:
+//! its springs holding it as if they were glued (gmsh's tet10 sphere on its copy, 58,726
+//! particles: the contact 536 slaves wide, then 20 iterations down to 304; docs/PERFORMANCE.md,
+//! "Contacts that the step would pull"). The residual and the line search are the model's own:
 //! the prediction changes the step's direction, not the equilibrium.
 
 use super::dofs::Dofs;
@@ -230,7 +230,7 @@ mod tests {
 
     /// At the pressed gmsh tet4 pair's equilibrium: a step that leaves the bodies where they
     /// are keeps every contact; one that lifts the upper body by more than any contact's
-    /// `F/k` lets every one go, and the right-hand side loses exactly their forces.
+    /// `F/k` lets every one go, and what the right-hand side loses balances between the bodies.
     #[test]
     fn a_step_that_pulls_a_contact_lets_it_go() {
         let mut model = stacked();
