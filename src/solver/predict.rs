@@ -104,21 +104,19 @@ fn release(held: &[Held], d: &Dofs, released: &mut [bool]) -> bool {
 }
 
 /// Takes the released contacts' forces out of `out` (already scaled and masked): the step's
-/// linear model has them open. Returns how many.
-fn let_go(model: &Model, held: &[Held], released: &[bool], out: &mut Dofs) -> usize {
+/// linear model has them open.
+fn let_go(model: &Model, held: &[Held], released: &[bool], out: &mut Dofs) {
+    if !held.iter().any(|h| released[h.index]) {
+        return;
+    }
     let mut gone = Dofs::zeros(model);
-    let mut count = 0;
     for h in held.iter().filter(|h| released[h.index]) {
         let s = &h.spring;
         gone.pd[s.body][s.slave as usize] -= h.force;
         s.master.react(-h.force, &mut gone);
-        count += 1;
     }
-    if count > 0 {
-        scale_and_mask(model, &mut gone);
-        out.axpy(1.0, &gone);
-    }
-    count
+    scale_and_mask(model, &mut gone);
+    out.axpy(1.0, &gone);
 }
 
 /// An open slave in front of a master segment: the spring it would get.
