@@ -10,8 +10,9 @@
 //! Bodies of the LPS model (whose dilatation couples a particle to its neighbours'
 //! neighbours) have no coarse space: block Jacobi alone, as before.
 
-use nalgebra::linalg::Cholesky;
-use nalgebra::{DMatrix, DVector, Dyn, Matrix3, SMatrix};
+use faer::linalg::solvers::{Llt, SolveCore};
+use faer::{Conj, MatMut, Side};
+use nalgebra::{DMatrix, DVector, Matrix3, SMatrix};
 use rayon::prelude::*;
 
 use super::dofs::Dofs;
@@ -25,11 +26,36 @@ use crate::model::Model;
 pub(super) type Rows = (usize, SMatrix<f64, 3, 6>);
 
 /// Particles a box holds, about: fewer boxes leave the CG count high, more make the dense
-/// coarse factorisation the cost (docs/PERFORMANCE.md, "The static solver").
-const PARTICLES_PER_BOX: usize = 500;
+/// coarse factorisation the cost (docs/PERFORMANCE.md, "The static solver" and "Boxes of
+/// 200 particles": 500 took the gmsh tet4 pair of 12,087 particles 144 tangent products,
+/// 200 takes it 96).
+const PARTICLES_PER_BOX: usize = 200;
 /// Boxes over the whole model at most (a coarse matrix of 6 × 128 = 768 rows, factorised
 /// once a Newton iteration in tens of milliseconds).
 const MAX_BOXES: usize = 128;
+
+/// The Cholesky factor of a tangent's `Pᵀ K P`, refactorised every Newton iteration
+/// (faer's: at 372 coarse unknowns, nalgebra's took 1.8 ms, faer's 1.1 ms).
+pub(super) struct CoarseFactor(Llt<f64>);
+
+impl CoarseFactor {
+    /// `None` where `m` is not positive definite.
+    pub fn new(m: &DMatrix<f64>) -> Option<CoarseFactor> {
+        let n = m.nrows();
+        let a = faer::Mat::<f64>::from_fn(n, n, |i, j| m[(i, j)]);
+        a.llt(Side::Lower).ok().map(CoarseFactor)
+    }
+
+    /// `m⁻¹ v`.
+    pub fn solve(&self, mut v: DVector<f64>) -> DVector<f64> {
+        let n = v.len();
+        self.0.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(v.as_mut_slice(), n, 1),
+        );
+        v
+    }
+}
 
 /// The boxes and the bonds' part of `Pᵀ K P`.
 pub(super) struct CoarseSpace {
@@ -205,7 +231,7 @@ impl CoarseSpace {
     /// `z += P (Pᵀ K P)⁻¹ Pᵀ S r`, `factor` the factorised `Pᵀ K P`. A particle's rows
     /// of `P` are applied without being built: `Pᵀ v = (f∘v, r × (f∘v))` and
     /// `P y = f∘(y_t + y_r × r)` (translations, then rotations about the box's centre).
-    pub fn correct(&self, model: &Model, factor: &Cholesky<f64, Dyn>, r: &Dofs, z: &mut Dofs) {
+    pub fn correct(&self, model: &Model, factor: &CoarseFactor, r: &Dofs, z: &mut Dofs) {
         let mut pr = DVector::zeros(self.len());
         for (k, rk) in r.pd.iter().enumerate() {
             let Some(pd) = model.bodies[k].as_pd() else {
@@ -221,14 +247,15 @@ impl CoarseSpace {
                 }
             }
         }
-        let y = factor.solve(&pr);
+        let y = factor.solve(pr);
         for (k, zk) in z.pd.iter_mut().enumerate() {
             if model.bodies[k].as_pd().is_none() {
                 continue;
             }
+            // Threads only for large bodies: below, waking them costs more than the sweep.
             zk.par_iter_mut()
                 .enumerate()
-                .with_min_len(1024)
+                .with_min_len(1 << 15)
                 .for_each(|(i, zi)| {
                     let (a, c, f) = self.at(model, k, i);
                     let t = Vec3::new(y[6 * a], y[6 * a + 1], y[6 * a + 2]);
@@ -472,7 +499,7 @@ two_pass = true
 
         // The correction applies `P` and `Pᵀ` without building them: with `(Pᵀ K P)⁻¹`
         // replaced by the identity it gives `P Pᵀ S r`, as the rows built give it.
-        let identity = nalgebra::Cholesky::new(nalgebra::DMatrix::identity(nc, nc))
+        let identity = super::CoarseFactor::new(&nalgebra::DMatrix::identity(nc, nc))
             .expect("the identity factorises");
         let mut z = Dofs::zeros(&model);
         space.correct(&model, &identity, &a, &mut z);

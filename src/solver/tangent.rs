@@ -41,7 +41,7 @@
 use nalgebra::Matrix3;
 
 use super::cluster::Cluster;
-use super::coarse::CoarseSpace;
+use super::coarse::{CoarseFactor, CoarseSpace};
 use super::dofs::Dofs;
 use super::springs::pass_springs;
 pub(super) use super::springs::{master_of, master_segments, Master, Spring};
@@ -69,7 +69,7 @@ pub(super) struct Tangent {
     /// Scratch positions for the linearised product.
     scratch: Vec<Vec<Vec3>>,
     /// The factorised `Pᵀ K P` of the coarse space, where one is used.
-    coarse: Option<nalgebra::linalg::Cholesky<f64, nalgebra::Dyn>>,
+    coarse: Option<CoarseFactor>,
     /// How many of `springs` are the state's own; the rest are the predicted contacts'
     /// ([`super::predict`]).
     own: usize,
@@ -276,7 +276,7 @@ impl Tangent {
     /// them: a body held only by contact has modes that only they resist), factorised.
     /// Left out where the factorisation fails: block Jacobi alone.
     pub fn build_coarse(&mut self, model: &Model, space: &CoarseSpace) {
-        self.coarse = space.matrix(model, &self.springs).cholesky();
+        self.coarse = CoarseFactor::new(&space.matrix(model, &self.springs));
     }
 
     /// Whether every spring is symmetric (its gap's gradient along its force), so that

@@ -553,6 +553,14 @@ fn several_mpi_copies() -> Option<(usize, Error)> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // The main thread one of the pool's threads: a parallel loop it starts is then a job
+    // of its own worker, not one sent to another thread while it sleeps on a lock (on a
+    // 2-core VM that handover cost ~0.1 ms a loop: the static solver's linear iterations
+    // spent a third of their time in it; docs/PERFORMANCE.md, "The main thread in the pool").
+    // If a pool exists already (it cannot here), the default one serves.
+    let _ = rayon::ThreadPoolBuilder::new()
+        .use_current_thread()
+        .build_global();
     let launched = several_mpi_copies();
     // Built with MPI and started as several processes: the run is decomposed over them.
     #[cfg(feature = "mpi")]
