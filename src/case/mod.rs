@@ -149,13 +149,9 @@ impl Ghosts {
         }
     }
 
-    /// The share of a particle that its model holds: ½ per symmetry plane it lies on.
-    #[inline]
+    /// The share of a particle that its model holds: ½ per symmetry plane it lies on (no `powi`).
     pub fn share(&self, i: usize) -> f64 {
-        // 2^−planes, exact, without the call `powi` makes (the static solver's inner products
-        // and its coarse correction take it for every particle, every linear iteration).
-        let planes = self.on_plane.get(i).map_or(0, |m| m.count_ones());
-        f64::from_bits((1023 - u64::from(planes)) << 52)
+        f64::from_bits((1023 - u64::from(self.on_plane.get(i).map_or(0, |m| m.count_ones()))) << 52)
     }
 
     /// Volumes as bond partners see them: a particle on a symmetry plane holds only its

@@ -26,9 +26,9 @@ use crate::model::Model;
 pub(super) type Rows = (usize, SMatrix<f64, 3, 6>);
 
 /// Particles a box holds, about: fewer boxes leave the CG count high, more make the dense
-/// coarse factorisation the cost (docs/PERFORMANCE.md, "The static solver" and "Boxes of
-/// 200 particles": 500 took the gmsh tet4 pair of 12,087 particles 144 tangent products,
-/// 200 takes it 96).
+/// coarse factorisation the cost (docs/PERFORMANCE.md, "The static solver" and "The main
+/// thread in the pool, and boxes of 200 particles": 500 took the gmsh tet4 pair of 12,087
+/// particles 144 tangent products, 200 takes it 96).
 const PARTICLES_PER_BOX: usize = 200;
 /// Boxes over the whole model at most (a coarse matrix of 6 × 128 = 768 rows, factorised
 /// once a Newton iteration in tens of milliseconds).

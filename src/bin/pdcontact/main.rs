@@ -556,8 +556,9 @@ fn main() -> ExitCode {
     // The main thread one of the pool's threads: a parallel loop it starts is then a job
     // of its own worker, not one sent to another thread while it sleeps on a lock (on a
     // 2-core VM that handover cost ~0.1 ms a loop: the static solver's linear iterations
-    // spent a third of their time in it; docs/PERFORMANCE.md, "The main thread in the pool").
-    // If a pool exists already (it cannot here), the default one serves.
+    // spent a third of their time in it; docs/PERFORMANCE.md, "The main thread in the pool,
+    // and boxes of 200 particles"). If a pool exists already (it cannot here), the default
+    // one serves.
     let _ = rayon::ThreadPoolBuilder::new()
         .use_current_thread()
         .build_global();
