@@ -5,8 +5,9 @@
 //! The displacement gradient at particle `i` is the weighted least-squares fit of a linear
 //! field to its bonds, the shape tensor of correspondence PD (Silling et al. 2007, §15):
 //! `H_i = (Σ_j w_j η ⊗ ξ) K_i⁻¹` with `K_i = Σ_j w_j ξ ⊗ ξ`, `η = u_j − u_i`, over the bonds
-//! of the case (mirror images included, so a particle on a symmetry plane sees the whole
-//! neighbourhood). It is exact for any linear displacement field whatever the
+//! of the case still intact (mirror images included, so a particle on a symmetry plane sees
+//! the whole neighbourhood; a broken bond left out, so a crack's opening reads as no strain
+//! on either face). It is exact for any linear displacement field whatever the
 //! neighbourhood's shape, at a surface too, where a force-based stress (Σ f ⊗ ξ) lacks the
 //! missing half. The stress is then the continuum's for the body's E and ν (the constants
 //! its bulk reproduces, bond-based at ν = 1/4 as the LPS at any ν): small kinematics
@@ -73,6 +74,13 @@ impl PdBody {
                 case.ghosts.reflect(self.reference[s] + u[s], mask) - self.reference[j]
             }
         };
+        // At rest (a run's first frame), untouched: every gradient is zero.
+        let pressed = |i: usize| pressure.is_some_and(|p| p[i] > 0.0);
+        if u.iter().all(|d| *d == Vec3::zeros()) && !(0..n).any(pressed) {
+            return vec![Tensor::zeros(); at.len()];
+        }
+        // A broken bond joins nothing: the displacement jump across a crack is no strain.
+        let intact = self.fracture.as_ref().map(|f| &f.intact);
         let (lambda, mu) = self.material.lame();
         at.par_iter()
             .map(|&i| {
@@ -81,6 +89,9 @@ impl PdBody {
                 let mut shape = Tensor::zeros();
                 let mut stretch = Tensor::zeros();
                 for b in bonds.range(i) {
+                    if intact.is_some_and(|k| !k[b]) {
+                        continue;
+                    }
                     let j = bonds.partner[b] as usize;
                     let xi = self.reference[j] - xi0;
                     let r = 1.0 - bonds.length(b) / reach;
