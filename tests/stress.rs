@@ -71,7 +71,10 @@ fn a_homogeneous_deformation_gives_the_continuums_stress_everywhere() {
 #[test]
 fn a_crack_that_opens_is_no_strain() {
     let crack = "[[precrack]]\nbody = \"bar\"\npoint = [0.83, 0.4, 0.4]\nnormal = [1, 0, 0]\nalong = [0, 1, 0]\nsize = [2, 2]\n";
-    let mut m = model_of(&format!("{}{crack}", bar_scene("bond-based", 0.25, "small", 0.0)));
+    let mut m = model_of(&format!(
+        "{}{crack}",
+        bar_scene("bond-based", 0.25, "small", 0.0)
+    ));
     let pd = m.bodies[0].as_pd_mut().expect("deformable");
     let x = pd.case.particles.position.clone();
     pd.u = x

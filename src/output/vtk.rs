@@ -13,6 +13,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use nalgebra::Matrix3;
+use rayon::prelude::*;
 use vtkio::model::{Attribute, ByteOrder, CellType, DataArray, IOBuffer};
 use vtkio::xml::{self, Compressor};
 
@@ -179,40 +180,75 @@ fn stream_vtu(
         }
     }
     w.write_all(b">")?;
-    write_attributes(w, "PointData", point_data)?;
-    write_attributes(w, "CellData", cell_data)?;
+    // The arrays compressed and encoded on the pool's threads, written in order: a frame's
+    // arrays one after the other took 6-13 ms (15,625 particles).
     let coords: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
-    xml::se::to_writer(
-        &mut *w,
-        &xml::Points::from_io_buffer(IOBuffer::F64(coords), ENCODING)?,
-    )?;
-    w.write_all(b"<Cells>")?;
-    for (name, buf) in [
+    let cell_arrays = vec![
         ("connectivity", IOBuffer::U64(connectivity)),
         ("offsets", IOBuffer::U64(offsets)),
         (
             "types",
             IOBuffer::U8(types.into_iter().map(|t| t as u8).collect()),
         ),
-    ] {
-        let array = xml::DataArray::from_io_buffer(buf, ENCODING)?.with_name(name);
-        xml::se::to_writer(&mut *w, &array)?;
+    ];
+    let ((point_text, cell_text), (points_text, cells_text)) = rayon::join(
+        || {
+            rayon::join(
+                || attributes_text("PointData", point_data),
+                || attributes_text("CellData", cell_data),
+            )
+        },
+        || {
+            rayon::join(
+                || {
+                    encoded(|t| {
+                        let buffer = IOBuffer::F64(coords);
+                        xml::se::to_writer(t, &xml::Points::from_io_buffer(buffer, ENCODING)?)?;
+                        Ok(())
+                    })
+                },
+                || {
+                    cell_arrays
+                        .into_par_iter()
+                        .map(|(name, buffer)| {
+                            encoded(|t| {
+                                let array = xml::DataArray::from_io_buffer(buffer, ENCODING)?;
+                                xml::se::to_writer(t, &array.with_name(name))?;
+                                Ok(())
+                            })
+                        })
+                        .collect::<std::result::Result<Vec<_>, String>>()
+                },
+            )
+        },
+    );
+    w.write_all(&point_text?)?;
+    w.write_all(&cell_text?)?;
+    w.write_all(&points_text?)?;
+    w.write_all(b"<Cells>")?;
+    for text in cells_text? {
+        w.write_all(&text)?;
     }
     w.write_all(b"</Cells></Piece></UnstructuredGrid></VTKFile>")?;
     Ok(())
 }
 
+/// The text that `write` puts out, or its error in words (to cross threads).
+fn encoded(
+    write: impl FnOnce(&mut Vec<u8>) -> std::result::Result<(), Box<dyn std::error::Error>>,
+) -> std::result::Result<Vec<u8>, String> {
+    let mut text = Vec::new();
+    write(&mut text).map_err(|e| e.to_string())?;
+    Ok(text)
+}
+
 /// A `<PointData>` or `<CellData>` element as vtkio writes it: the first array of each kind
-/// named the active one, then the arrays, each encoded when its turn comes.
-fn write_attributes(
-    w: &mut impl Write,
-    tag: &str,
-    fields: Vec<Field>,
-) -> std::result::Result<(), Box<dyn std::error::Error>> {
+/// named the active one, then the arrays, each compressed and encoded on its own thread.
+fn attributes_text(tag: &str, fields: Vec<Field>) -> std::result::Result<Vec<u8>, String> {
     if fields.is_empty() {
-        return Ok(());
+        return Ok(Vec::new());
     }
-    write!(w, "<{tag}")?;
+    let mut w = format!("<{tag}");
     // vtkio's order of the attributes (Scalars, Vectors, Tensors), each its first such array.
     for (kind, is) in [
         (
@@ -224,21 +260,28 @@ fn write_attributes(
         ("Tensors", |f: &Field| matches!(f, Field::Tensor(..))),
     ] {
         if let Some(f) = fields.iter().find(|f| is(f)) {
-            write!(w, " {kind}=\"{}\"", xml_escape(&f.layout().0))?;
+            w.push_str(&format!(" {kind}=\"{}\"", xml_escape(&f.layout().0)));
         }
     }
-    w.write_all(b">")?;
-    for f in fields {
-        let Attribute::DataArray(data) = f.into_attribute() else {
-            continue;
-        };
-        xml::se::to_writer(
-            &mut *w,
-            &xml::DataArray::from_model_data_array(data, ENCODING)?,
-        )?;
+    w.push('>');
+    let arrays = fields
+        .into_par_iter()
+        .map(|f| {
+            encoded(|t| {
+                if let Attribute::DataArray(data) = f.into_attribute() {
+                    let array = xml::DataArray::from_model_data_array(data, ENCODING)?;
+                    xml::se::to_writer(t, &array)?;
+                }
+                Ok(())
+            })
+        })
+        .collect::<std::result::Result<Vec<_>, String>>()?;
+    let mut text = w.into_bytes();
+    for a in arrays {
+        text.extend(a);
     }
-    write!(w, "</{tag}>")?;
-    Ok(())
+    text.extend(format!("</{tag}>").into_bytes());
+    Ok(text)
 }
 
 /// The connectivity, offsets and cell types of `cells` over `n` points.
