@@ -10,6 +10,9 @@
 //! Bodies of the LPS model (whose dilatation couples a particle to its neighbours'
 //! neighbours) have no coarse space: block Jacobi alone, as before.
 
+use std::collections::HashMap;
+use std::ops::AddAssign;
+
 use faer::linalg::solvers::{Llt, SolveCore};
 use faer::{Conj, MatMut, Side};
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix};
@@ -289,10 +292,16 @@ impl CoarseSpace {
                 }
                 m
             };
+            // A block of particles touches a few boxes and their neighbours: its sum is kept
+            // as 6 × 6 blocks, not a whole coarse matrix (16 of those, zeroed and summed, were
+            // half the assembly's time on the demo).
             let part = |range: std::ops::Range<usize>| {
-                let mut m = DMatrix::<f64>::zeros(nc, nc);
-                // Per box of the partners: `Σ w e g_jᵀ`.
-                let mut across: Vec<(usize, SMatrix<f64, 3, 6>)> = Vec::new();
+                let mut m = Blocks::default();
+                // Per box of the partners: `Σ w e g_jᵀ`, and apart, for the partners free in
+                // every direction, `S = Σ w e eᵀ`: for them `g_j = (e, (X_j − C) × e)` and
+                // `(X_j − C) × e = (X_i − C) × e` (the bond lies along `e`), so their sum is
+                // `(S, S [X_i − C]ₓᵀ)`, a 3 × 3 sum per bond and not a 3 × 6.
+                let mut across: Vec<(usize, SMatrix<f64, 3, 6>, Matrix3<f64>)> = Vec::new();
                 for i in range {
                     let (ai, pi) = self.rows(model, k, i);
                     let mut own = Matrix3::zeros();
@@ -306,7 +315,16 @@ impl CoarseSpace {
                         let xi = pd.reference[j] - pd.reference[i];
                         let e = xi / xi.norm();
                         let we = e * w;
-                        own += we * e.transpose();
+                        let wee = we * e.transpose();
+                        own += wee;
+                        if j < n && free_factor(pd.fixed[j]) == Vec3::repeat(1.0) {
+                            let aj = self.aggregate[k][j] as usize;
+                            match across.iter_mut().find(|(a, ..)| *a == aj) {
+                                Some((_, _, sum)) => *sum += wee,
+                                None => across.push((aj, SMatrix::zeros(), wee)),
+                            }
+                            continue;
+                        }
                         // `g_j = P_jᵀ e`; an image's rows are its source's reflected.
                         let (aj, c, f, ej) = if j < n {
                             let (a, c, f) = self.at(model, k, j);
@@ -323,34 +341,57 @@ impl CoarseSpace {
                             gj[3 + d] = rot[d];
                         }
                         let add = we * gj;
-                        match across.iter_mut().find(|(a, _)| *a == aj) {
-                            Some((_, sum)) => *sum += add,
-                            None => across.push((aj, add)),
+                        match across.iter_mut().find(|(a, ..)| *a == aj) {
+                            Some((_, sum, _)) => *sum += add,
+                            None => across.push((aj, add, Matrix3::zeros())),
                         }
                     }
                     let pit = pi.transpose();
-                    let mut blk = m.fixed_view_mut::<6, 6>(6 * ai, 6 * ai);
-                    blk += pit * own * pi;
-                    for (aj, sum) in &across {
-                        let mut blk = m.fixed_view_mut::<6, 6>(6 * ai, 6 * aj);
-                        blk -= pit * sum;
+                    *m.at(ai, ai) += pit * own * pi;
+                    for (aj, sum, free) in &mut across {
+                        let c = pd.reference[i] - self.centre[*aj];
+                        sum.fixed_view_mut::<3, 3>(0, 0).add_assign(&*free);
+                        sum.fixed_view_mut::<3, 3>(0, 3)
+                            .add_assign(&(*free * c.cross_matrix().transpose()));
+                        *m.at(ai, *aj) -= pit * *sum;
                     }
                 }
                 m
             };
-            // At most 16 blocks of particles (each holds a whole coarse matrix), summed in
-            // their order.
+            // At most 16 blocks of particles, summed in their order (each entry's sum in the
+            // same order on any thread count).
             let block = n.div_ceil(16).max(1024);
-            let parts: Vec<DMatrix<f64>> = (0..n.div_ceil(block))
+            let parts: Vec<Blocks> = (0..n.div_ceil(block))
                 .into_par_iter()
                 .map(|c| part(c * block..((c + 1) * block).min(n)))
                 .collect();
             for p in parts {
-                ac += p;
+                for (&(a, b), &k) in &p.index {
+                    let mut blk = ac.fixed_view_mut::<6, 6>(6 * a, 6 * b);
+                    blk += p.values[k];
+                }
             }
         }
         // K is symmetric; the sum over directed bonds is so up to rounding.
         (&ac + ac.transpose()) * 0.5
+    }
+}
+
+/// A sum of 6 × 6 blocks of a coarse matrix, by (row box, column box).
+#[derive(Default)]
+struct Blocks {
+    index: HashMap<(usize, usize), usize>,
+    values: Vec<SMatrix<f64, 6, 6>>,
+}
+
+impl Blocks {
+    /// The block at boxes `(a, b)`, zero where new.
+    fn at(&mut self, a: usize, b: usize) -> &mut SMatrix<f64, 6, 6> {
+        let k = *self.index.entry((a, b)).or_insert_with(|| {
+            self.values.push(SMatrix::zeros());
+            self.values.len() - 1
+        });
+        &mut self.values[k]
     }
 }
 
