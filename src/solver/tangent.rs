@@ -276,7 +276,7 @@ impl Tangent {
     /// them: a body held only by contact has modes that only they resist), factorised.
     /// Left out where the factorisation fails: block Jacobi alone.
     pub fn build_coarse(&mut self, model: &Model, space: &CoarseSpace) {
-        self.coarse = CoarseFactor::new(&space.matrix(model, &self.springs));
+        self.coarse = space.factor(model, &self.springs);
     }
 
     /// Whether every spring is symmetric (its gap's gradient along its force), so that

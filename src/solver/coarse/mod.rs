@@ -13,10 +13,13 @@
 use std::collections::HashMap;
 use std::ops::AddAssign;
 
-use faer::linalg::solvers::{Llt, SolveCore};
-use faer::{Conj, MatMut, Side};
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix};
 use rayon::prelude::*;
+
+mod factor;
+
+pub(super) use factor::CoarseFactor;
+use factor::{regularise, Base};
 
 use super::dofs::Dofs;
 use super::free_factor;
@@ -28,6 +31,9 @@ use crate::model::Model;
 /// A particle's rows of `P`: its box and the 3×6 block of that box's modes.
 pub(super) type Rows = (usize, SMatrix<f64, 3, 6>);
 
+/// A 6 × 6 block of the coarse matrix (one box's modes against another's).
+type Matrix6 = SMatrix<f64, 6, 6>;
+
 /// Particles a box holds, about: fewer boxes leave the CG count high, more make the dense
 /// coarse factorisation the cost (docs/PERFORMANCE.md, "The static solver" and "The main
 /// thread in the pool, and boxes of 200 particles": 500 took the gmsh tet4 pair of 12,087
@@ -37,29 +43,6 @@ const PARTICLES_PER_BOX: usize = 200;
 /// once a Newton iteration in tens of milliseconds).
 const MAX_BOXES: usize = 128;
 
-/// The Cholesky factor of a tangent's `Pᵀ K P`, refactorised every Newton iteration
-/// (faer's: at 372 coarse unknowns, nalgebra's took 1.8 ms, faer's 1.1 ms).
-pub(super) struct CoarseFactor(Llt<f64>);
-
-impl CoarseFactor {
-    /// `None` where `m` is not positive definite.
-    pub fn new(m: &DMatrix<f64>) -> Option<CoarseFactor> {
-        let n = m.nrows();
-        let a = faer::Mat::<f64>::from_fn(n, n, |i, j| m[(i, j)]);
-        a.llt(Side::Lower).ok().map(CoarseFactor)
-    }
-
-    /// `m⁻¹ v`.
-    pub fn solve(&self, mut v: DVector<f64>) -> DVector<f64> {
-        let n = v.len();
-        self.0.solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(v.as_mut_slice(), n, 1),
-        );
-        v
-    }
-}
-
 /// The boxes and the bonds' part of `Pᵀ K P`.
 pub(super) struct CoarseSpace {
     /// Per body, per particle: its box (empty for a rigid body).
@@ -68,6 +51,8 @@ pub(super) struct CoarseSpace {
     centre: Vec<Vec3>,
     /// The bonds' part of `Pᵀ K P`.
     bonds: DMatrix<f64>,
+    /// It factorised ([`factor`]); `None` where it is not positive definite.
+    base: Option<Base>,
 }
 
 impl CoarseSpace {
@@ -140,8 +125,9 @@ impl CoarseSpace {
             aggregate,
             centre,
             bonds: DMatrix::zeros(0, 0),
+            base: None,
         };
-        space.bonds = space.assemble_bonds(model);
+        space.reassemble(model);
         Some(space)
     }
 
@@ -153,6 +139,7 @@ impl CoarseSpace {
     /// Assembles the bonds' part again (bonds broke).
     pub fn reassemble(&mut self, model: &Model) {
         self.bonds = self.assemble_bonds(model);
+        self.base = Base::new(&self.bonds);
     }
 
     /// Particle `i` of body `k`: its box and the modes' values there, fixed components
@@ -185,10 +172,10 @@ impl CoarseSpace {
         )
     }
 
-    /// `Pᵀ K P` of a tangent: the bonds' part and its `springs`' (each couples its slave's
-    /// rows to its master nodes', `C` between them).
-    pub fn matrix(&self, model: &Model, springs: &[Spring]) -> DMatrix<f64> {
-        let mut ac = self.bonds.clone();
+    /// The springs' part of `Pᵀ K P`, block by block: `(a, b, block)` for boxes `a`, `b`
+    /// (each spring couples its slave's rows to its master nodes', `C` between them).
+    fn spring_blocks(&self, model: &Model, springs: &[Spring]) -> Vec<(usize, usize, Matrix6)> {
+        let mut out = Vec::new();
         let mut d: Vec<Rows> = Vec::with_capacity(5);
         for s in springs {
             if model.bodies[s.body].as_pd().is_none() {
@@ -213,22 +200,48 @@ impl CoarseSpace {
             for (a, ma) in &d {
                 let left = ma.transpose() * c;
                 for (b, mb) in &d {
-                    let mut blk = ac.fixed_view_mut::<6, 6>(6 * a, 6 * b);
-                    blk += left * mb;
+                    out.push((*a, *b, left * mb));
                 }
             }
         }
-        // A mode that nothing moves (a box whose particles are all held in that direction)
-        // has a zero row, and a zero column in P: any diagonal will do.
-        let top = ac.diagonal().iter().fold(0.0f64, |a, &v| a.max(v));
-        for i in 0..ac.nrows() {
-            if ac[(i, i)] <= 1e-12 * top {
-                ac[(i, i)] = top;
-            } else {
-                ac[(i, i)] *= 1.0 + 1e-10;
+        out
+    }
+
+    /// `Pᵀ K P` of a tangent: the bonds' part and its `springs`'.
+    pub fn matrix(&self, model: &Model, springs: &[Spring]) -> DMatrix<f64> {
+        let mut ac = self.bonds.clone();
+        for (a, b, blk) in self.spring_blocks(model, springs) {
+            let mut at = ac.fixed_view_mut::<6, 6>(6 * a, 6 * b);
+            at += blk;
+        }
+        regularise(&mut ac, factor::REGULAR);
+        ac
+    }
+
+    /// `(Pᵀ K P)⁻¹` of a tangent with `springs`: the bonds' part's factor updated on the
+    /// boxes the springs touch ([`factor`]), or where they touch many, the whole matrix
+    /// factorised; `None` where it is not positive definite.
+    pub fn factor(&self, model: &Model, springs: &[Spring]) -> Option<CoarseFactor> {
+        let blocks = self.spring_blocks(model, springs);
+        if let Some(base) = &self.base {
+            let mut boxes: Vec<usize> = blocks.iter().map(|b| b.0).collect();
+            boxes.sort_unstable();
+            boxes.dedup();
+            let mut local = HashMap::new();
+            for (k, &a) in boxes.iter().enumerate() {
+                local.insert(a, k);
+            }
+            let mut d = DMatrix::zeros(6 * boxes.len(), 6 * boxes.len());
+            for (a, b, blk) in &blocks {
+                let mut at = d.fixed_view_mut::<6, 6>(6 * local[a], 6 * local[b]);
+                at += blk;
+            }
+            let rows = boxes.iter().flat_map(|&a| 6 * a..6 * a + 6).collect();
+            if let Some(f) = CoarseFactor::updated(base, rows, d) {
+                return Some(f);
             }
         }
-        ac
+        CoarseFactor::whole(&self.matrix(model, springs))
     }
 
     /// `z += P (Pᵀ K P)⁻¹ Pᵀ S r`, `factor` the factorised `Pᵀ K P`. A particle's rows
@@ -250,7 +263,7 @@ impl CoarseSpace {
                 }
             }
         }
-        let y = factor.solve(pr);
+        let y = factor.solve(self.base.as_ref(), pr);
         for (k, zk) in z.pd.iter_mut().enumerate() {
             if model.bodies[k].as_pd().is_none() {
                 continue;
@@ -490,6 +503,40 @@ two_pass = true
         v
     }
 
+    /// The bonds' factor updated by a tangent's springs on the boxes they touch solves as
+    /// the whole matrix factorised does (the upper sphere held only by contact: `B` alone
+    /// is singular along its fall).
+    #[test]
+    fn the_updated_factor_solves_as_the_whole_one() {
+        let model = stacked();
+        let mut blocks = vec![None; model.bodies.len()];
+        let tangent = Tangent::new(&model, 1.0, None, &mut blocks, false);
+        let space = CoarseSpace::new(&model).expect("a coarse space");
+        let nc = space.len();
+        let updated = space.factor(&model, tangent.springs()).expect("factorises");
+        let super::CoarseFactor::Updated { rows, .. } = &updated else {
+            panic!("the whole matrix factorised");
+        };
+        assert!(
+            !rows.is_empty() && rows.len() < nc / 4,
+            "{} of {nc}",
+            rows.len()
+        );
+        let whole = super::CoarseFactor::whole(&space.matrix(&model, tangent.springs()))
+            .expect("factorises");
+        for seed in 1..4 {
+            let v = nalgebra::DVector::from_iterator(
+                nc,
+                (0..nc).map(|i| ((i as u64 * 2654435761 + seed) % 1000) as f64 - 500.0),
+            );
+            let want = whole.solve(space.base.as_ref(), v.clone());
+            let got = updated.solve(space.base.as_ref(), v);
+            let gap = (&got - &want).norm() / want.norm();
+            eprintln!("seed {seed}: {gap:e}, {} rows of {nc}", rows.len());
+            assert!(gap < 1e-6, "seed {seed}: {gap:e}");
+        }
+    }
+
     /// `K = S A` is symmetric: `b·S A a = a·S A b` to rounding, while the plain `b·A a`
     /// differs (the inner product the conjugate gradients once used); and the coarse
     /// matrix assembled from the bonds and springs is `Pᵀ K P` as the product gives it,
@@ -540,7 +587,7 @@ two_pass = true
 
         // The correction applies `P` and `Pᵀ` without building them: with `(Pᵀ K P)⁻¹`
         // replaced by the identity it gives `P Pᵀ S r`, as the rows built give it.
-        let identity = super::CoarseFactor::new(&nalgebra::DMatrix::identity(nc, nc))
+        let identity = super::CoarseFactor::whole(&nalgebra::DMatrix::identity(nc, nc))
             .expect("the identity factorises");
         let mut z = Dofs::zeros(&model);
         space.correct(&model, &identity, &a, &mut z);
