@@ -54,6 +54,11 @@ impl PdBody {
         let case = &self.case;
         let n = self.len();
         let bonds = &case.bonds;
+        // At rest (a run's first frame), untouched: every gradient is zero.
+        let pressed = |i: usize| pressure.is_some_and(|p| p[i] > 0.0);
+        if u.iter().all(|d| *d == Vec3::zeros()) && !(0..n).any(pressed) {
+            return vec![Tensor::zeros(); at.len()];
+        }
         let volume = case.ghosts.partner_volumes(&case.particles.volume);
         // The bonds' reach at each particle, `δ + Δ/2` (Eq. 10; it follows the mesh where
         // the spacing does).
@@ -74,11 +79,6 @@ impl PdBody {
                 case.ghosts.reflect(self.reference[s] + u[s], mask) - self.reference[j]
             }
         };
-        // At rest (a run's first frame), untouched: every gradient is zero.
-        let pressed = |i: usize| pressure.is_some_and(|p| p[i] > 0.0);
-        if u.iter().all(|d| *d == Vec3::zeros()) && !(0..n).any(pressed) {
-            return vec![Tensor::zeros(); at.len()];
-        }
         // A broken bond joins nothing: the displacement jump across a crack is no strain.
         let intact = self.fracture.as_ref().map(|f| &f.intact);
         let (lambda, mu) = self.material.lame();
@@ -88,6 +88,7 @@ impl PdBody {
                 let reach = reach_of(i);
                 let mut shape = Tensor::zeros();
                 let mut stretch = Tensor::zeros();
+                let ui = u[i];
                 for b in bonds.range(i) {
                     if intact.is_some_and(|k| !k[b]) {
                         continue;
@@ -95,9 +96,9 @@ impl PdBody {
                     let j = bonds.partner[b] as usize;
                     let xi = self.reference[j] - xi0;
                     let r = 1.0 - bonds.length(b) / reach;
-                    let w = volume[j] * r.max(0.0).powi(2);
-                    shape += w * xi * xi.transpose();
-                    stretch += w * (displacement(j) - u[i]) * xi.transpose();
+                    let wxi = (volume[j] * r.max(0.0).powi(2)) * xi;
+                    shape.ger(1.0, &xi, &wxi, 1.0);
+                    stretch.ger(1.0, &(displacement(j) - ui), &wxi, 1.0);
                 }
                 let scale = shape.trace() / 3.0;
                 if !(scale > 0.0) || shape.determinant() < FLAT_NEIGHBOURHOOD * scale.powi(3) {
