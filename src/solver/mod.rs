@@ -24,7 +24,7 @@
 //! | ADR: a loaded body gone past everything it is in contact with | `unheld.rs` ([`Unheld`]) |
 //! | static: Newton-Raphson, conjugate gradients, line search, load cut-backs | `newton.rs` ([`newton`]) |
 //! | static: the matrix-free tangent and its block-Jacobi preconditioner | `tangent.rs` |
-//! | static: the preconditioner's coarse space, the rigid modes of boxes of particles | `coarse.rs` |
+//! | static: the preconditioner's coarse space, the rigid modes of boxes of particles, and its matrix's inverse | `coarse/` |
 //! | the monitor, the statistics, the free-direction mask, the checks both share | this module |
 
 mod adr;

@@ -6,7 +6,9 @@
 //!
 //! `Pᵀ K P` is assembled from the bonds' linearised tangent once (it does not change under
 //! small kinematics; under finite ones it stands for the tangent in the preconditioner
-//! only) and from each Newton iteration's contact springs ([`super::tangent::Tangent`]).
+//! only) and from each Newton iteration's contact springs ([`super::tangent::Tangent`]);
+//! its inverse from the bonds' part factorised once and the springs' added on the boxes
+//! they touch ([`factor`]).
 //! Bodies of the LPS model (whose dilatation couples a particle to its neighbours'
 //! neighbours) have no coarse space: block Jacobi alone, as before.
 
@@ -39,8 +41,8 @@ type Matrix6 = SMatrix<f64, 6, 6>;
 /// thread in the pool, and boxes of 200 particles": 500 took the gmsh tet4 pair of 12,087
 /// particles 144 tangent products, 200 takes it 96).
 const PARTICLES_PER_BOX: usize = 200;
-/// Boxes over the whole model at most (a coarse matrix of 6 × 128 = 768 rows, factorised
-/// once a Newton iteration in tens of milliseconds).
+/// Boxes over the whole model at most (a coarse matrix of 6 × 128 = 768 rows, its bonds'
+/// part factorised in a few milliseconds).
 const MAX_BOXES: usize = 128;
 
 /// The boxes and the bonds' part of `Pᵀ K P`.
