@@ -210,9 +210,15 @@ impl CoarseSpace {
     }
 
     /// `Pᵀ K P` of a tangent: the bonds' part and its `springs`'.
+    #[cfg(test)]
     pub fn matrix(&self, model: &Model, springs: &[Spring]) -> DMatrix<f64> {
+        self.with_springs(&self.spring_blocks(model, springs))
+    }
+
+    /// The bonds' part with the springs' `blocks` added, its diagonal raised.
+    fn with_springs(&self, blocks: &[(usize, usize, Matrix6)]) -> DMatrix<f64> {
         let mut ac = self.bonds.clone();
-        for (a, b, blk) in self.spring_blocks(model, springs) {
+        for (a, b, blk) in blocks {
             let mut at = ac.fixed_view_mut::<6, 6>(6 * a, 6 * b);
             at += blk;
         }
@@ -243,7 +249,7 @@ impl CoarseSpace {
                 return Some(f);
             }
         }
-        CoarseFactor::whole(&self.matrix(model, springs))
+        CoarseFactor::whole(&self.with_springs(&blocks))
     }
 
     /// `z += P (Pᵀ K P)⁻¹ Pᵀ S r`, `factor` the factorised `Pᵀ K P`. A particle's rows
