@@ -26,7 +26,7 @@ use factor::{regularise, Base};
 use super::dofs::Dofs;
 use super::free_factor;
 use super::tangent::{Master, Spring};
-use crate::body::Body;
+use crate::body::{Body, FIX_X, FIX_Y, FIX_Z};
 use crate::math::Vec3;
 use crate::model::Model;
 
@@ -261,30 +261,61 @@ impl CoarseSpace {
             let Some(pd) = model.bodies[k].as_pd() else {
                 continue;
             };
-            for (i, ri) in rk.iter().enumerate() {
-                let (a, c, f) = self.at(model, k, i);
-                let v = (ri * pd.case.ghosts.share(i)).component_mul(&f);
-                let w = c.cross(&v);
-                for d in 0..3 {
-                    pr[6 * a + d] += v[d];
-                    pr[6 * a + 3 + d] += w[d];
-                }
+            // Summed per chunk of particles, the chunks then in order (the same bits on any
+            // thread count); on threads only for large bodies, as below.
+            let ghosts = &pd.case.ghosts;
+            let n = rk.len();
+            let chunks: Vec<DVector<f64>> = rk
+                .par_chunks(CHUNK)
+                .zip(pd.reference[..n].par_chunks(CHUNK))
+                .zip(pd.fixed[..n].par_chunks(CHUNK))
+                .zip(self.aggregate[k].par_chunks(CHUNK))
+                .enumerate()
+                .with_min_len(SERIAL / CHUNK)
+                .map(|(c, (((r, x), fixed), agg))| {
+                    let mut sum = DVector::zeros(self.len());
+                    for (o, (((ri, x), fixed), a)) in
+                        r.iter().zip(x).zip(fixed).zip(agg).enumerate()
+                    {
+                        let a = *a as usize;
+                        let v =
+                            (ri * ghosts.share(c * CHUNK + o)).component_mul(&free_factor(*fixed));
+                        let w = (x - self.centre[a]).cross(&v);
+                        for d in 0..3 {
+                            sum[6 * a + d] += v[d];
+                            sum[6 * a + 3 + d] += w[d];
+                        }
+                    }
+                    sum
+                })
+                .collect();
+            for sum in chunks {
+                pr += sum;
             }
         }
         let y = factor.solve(self.base.as_ref(), pr);
+        // Each box's translation and rotation, then a particle's `f∘(t + rot × (X − C))`.
+        let motion: Vec<(Vec3, Vec3, Vec3)> = (0..self.centre.len())
+            .map(|a| {
+                let t = Vec3::new(y[6 * a], y[6 * a + 1], y[6 * a + 2]);
+                let rot = Vec3::new(y[6 * a + 3], y[6 * a + 4], y[6 * a + 5]);
+                (t, rot, self.centre[a])
+            })
+            .collect();
         for (k, zk) in z.pd.iter_mut().enumerate() {
-            if model.bodies[k].as_pd().is_none() {
+            let Some(pd) = model.bodies[k].as_pd() else {
                 continue;
-            }
+            };
+            let n = zk.len();
             // Threads only for large bodies: below, waking them costs more than the sweep.
             zk.par_iter_mut()
-                .enumerate()
-                .with_min_len(1 << 15)
-                .for_each(|(i, zi)| {
-                    let (a, c, f) = self.at(model, k, i);
-                    let t = Vec3::new(y[6 * a], y[6 * a + 1], y[6 * a + 2]);
-                    let rot = Vec3::new(y[6 * a + 3], y[6 * a + 4], y[6 * a + 5]);
-                    *zi += (t + rot.cross(&c)).component_mul(&f);
+                .zip(pd.reference[..n].par_iter())
+                .zip(pd.fixed[..n].par_iter())
+                .zip(self.aggregate[k].par_iter())
+                .with_min_len(SERIAL)
+                .for_each(|(((zi, x), fixed), a)| {
+                    let (t, rot, c) = &motion[*a as usize];
+                    *zi += (t + rot.cross(&(x - c))).component_mul(&free_factor(*fixed));
                 });
         }
     }
@@ -321,12 +352,14 @@ impl CoarseSpace {
                 // Per box of the partners: `Σ w e g_jᵀ`, and apart, for the partners free in
                 // every direction, `S = Σ w e eᵀ`: for them `g_j = (e, (X_j − C) × e)` and
                 // `(X_j − C) × e = (X_i − C) × e` (the bond lies along `e`), so their sum is
-                // `(S, S [X_i − C]ₓᵀ)`, a 3 × 3 sum per bond and not a 3 × 6.
-                let mut across: Vec<(usize, SMatrix<f64, 3, 6>, Matrix3<f64>)> = Vec::new();
+                // `(S, S [X_i − C]ₓᵀ)`, a sum of six numbers per bond and not a 3 × 6. `w e eᵀ`
+                // as `(w / |ξ|²) ξ ξᵀ`: no root.
+                let mut across: Vec<Across> = Vec::new();
                 for i in range {
                     let (ai, pi) = self.rows(model, k, i);
-                    let mut own = Matrix3::zeros();
+                    let mut own = [0.0; 6];
                     across.clear();
+                    let mut last = 0;
                     for bd in bonds.range(i) {
                         let w = f64::from(pd.bond_weight[bd]);
                         if w == 0.0 {
@@ -334,19 +367,28 @@ impl CoarseSpace {
                         }
                         let j = bonds.partner[bd] as usize;
                         let xi = pd.reference[j] - pd.reference[i];
-                        let e = xi / xi.norm();
-                        let we = e * w;
-                        let wee = we * e.transpose();
-                        own += wee;
-                        if j < n && free_factor(pd.fixed[j]) == Vec3::repeat(1.0) {
+                        let q = xi * (w / xi.norm_squared());
+                        let wee = [
+                            q.x * xi.x,
+                            q.x * xi.y,
+                            q.x * xi.z,
+                            q.y * xi.y,
+                            q.y * xi.z,
+                            q.z * xi.z,
+                        ];
+                        if j < n && pd.fixed[j] & (FIX_X | FIX_Y | FIX_Z) == 0 {
                             let aj = self.aggregate[k][j] as usize;
-                            match across.iter_mut().find(|(a, ..)| *a == aj) {
-                                Some((_, _, sum)) => *sum += wee,
-                                None => across.push((aj, SMatrix::zeros(), wee)),
+                            last = slot(&mut across, last, aj);
+                            for (s, v) in across[last].2.iter_mut().zip(wee) {
+                                *s += v;
                             }
                             continue;
                         }
+                        for (s, v) in own.iter_mut().zip(wee) {
+                            *s += v;
+                        }
                         // `g_j = P_jᵀ e`; an image's rows are its source's reflected.
+                        let e = xi / xi.norm();
                         let (aj, c, f, ej) = if j < n {
                             let (a, c, f) = self.at(model, k, j);
                             (a, c, f, e)
@@ -361,19 +403,24 @@ impl CoarseSpace {
                             gj[d] = t[d];
                             gj[3 + d] = rot[d];
                         }
-                        let add = we * gj;
-                        match across.iter_mut().find(|(a, ..)| *a == aj) {
-                            Some((_, sum, _)) => *sum += add,
-                            None => across.push((aj, add, Matrix3::zeros())),
+                        last = slot(&mut across, last, aj);
+                        across[last].1 += (e * w) * gj;
+                    }
+                    // `Σ w e eᵀ` over every bond: the free partners' sums and the rest's.
+                    for (_, _, free) in &across {
+                        for (s, v) in own.iter_mut().zip(free) {
+                            *s += v;
                         }
                     }
+                    let own = symmetric(&own);
                     let pit = pi.transpose();
                     *m.at(ai, ai) += pit * own * pi;
                     for (aj, sum, free) in &mut across {
                         let c = pd.reference[i] - self.centre[*aj];
-                        sum.fixed_view_mut::<3, 3>(0, 0).add_assign(&*free);
+                        let free = symmetric(free);
+                        sum.fixed_view_mut::<3, 3>(0, 0).add_assign(&free);
                         sum.fixed_view_mut::<3, 3>(0, 3)
-                            .add_assign(&(*free * c.cross_matrix().transpose()));
+                            .add_assign(&(free * c.cross_matrix().transpose()));
                         *m.at(ai, *aj) -= pit * *sum;
                     }
                 }
@@ -396,6 +443,35 @@ impl CoarseSpace {
         // K is symmetric; the sum over directed bonds is so up to rounding.
         (&ac + ac.transpose()) * 0.5
     }
+}
+
+/// Particles a thread takes at a time in [`CoarseSpace::correct`].
+const CHUNK: usize = 2048;
+
+/// Particles below which [`CoarseSpace::correct`] sweeps a body on one thread.
+const SERIAL: usize = 1 << 15;
+
+/// A particle's bonds into one box: `Σ w e g_jᵀ` over its partners with a fixed component,
+/// `Σ w e eᵀ` over the free ones (its upper triangle by rows, [`symmetric`];
+/// [`CoarseSpace::assemble_bonds`]).
+type Across = (usize, SMatrix<f64, 3, 6>, [f64; 6]);
+
+/// The symmetric matrix of an upper triangle by rows.
+fn symmetric(u: &[f64; 6]) -> Matrix3<f64> {
+    Matrix3::new(u[0], u[1], u[2], u[1], u[3], u[4], u[2], u[4], u[5])
+}
+
+/// The place of box `a`'s sums in `across` (added, zero, where new), `last` tried first: a
+/// particle's partners come in runs of one box.
+#[inline]
+fn slot(across: &mut Vec<Across>, last: usize, a: usize) -> usize {
+    if across.get(last).is_some_and(|s| s.0 == a) {
+        return last;
+    }
+    across.iter().position(|s| s.0 == a).unwrap_or_else(|| {
+        across.push((a, SMatrix::zeros(), [0.0; 6]));
+        across.len() - 1
+    })
 }
 
 /// A sum of 6 × 6 blocks of a coarse matrix, by (row box, column box).
