@@ -20,6 +20,7 @@
 
 use rayon::prelude::*;
 
+use crate::body::lps::Lps;
 use crate::body::new_surface::NewSurface;
 use crate::case::correction::volume_correction;
 pub use crate::case::crack_faces::CrackPatch;
@@ -189,7 +190,7 @@ impl Fracture {
     /// Breaks the bonds `(i, b)` (each real pair given once, from either end): both directions
     /// of a real pair, the bond alone to a mirror image. Their weights go to zero in
     /// `bond_weight`, in `pairs` (where the pair is in it: a rank's list holds its own) and,
-    /// for an LPS body, in its bonds' `ω v_c V_j` (`lps_volume`: the bond leaves the
+    /// for an LPS body, in its bonds' `ω v_c V_j` (`lps`, [`Lps::cut`]: the bond leaves the
     /// dilatation and the force state; the weighted volume `m_i` stays as built, as
     /// Peridigm's LPS keeps it, so that a particle left with few bonds is not made stiffer).
     pub fn break_bonds(
@@ -198,7 +199,7 @@ impl Fracture {
         broken: &[(u32, u32)],
         bond_weight: &mut [f32],
         pairs: &mut PairList,
-        mut lps_volume: Option<&mut [f64]>,
+        mut lps: Option<&mut Lps>,
     ) {
         let n = bonds.particles();
         for &(i, b) in broken {
@@ -211,8 +212,8 @@ impl Fracture {
                 self.intact[c] = false;
                 self.limit[c] = f32::INFINITY;
                 bond_weight[c] = 0.0;
-                if let Some(v) = lps_volume.as_deref_mut() {
-                    v[c] = 0.0;
+                if let Some(l) = lps.as_deref_mut() {
+                    l.cut(c);
                 }
                 self.lost[k] += f64::from(self.volume[c]);
             };

@@ -342,7 +342,7 @@ impl PdBody {
                 broken,
                 &mut self.bond_weight,
                 &mut self.pairs,
-                self.lps.as_mut().map(|l| l.bond_volume.as_mut_slice()),
+                self.lps.as_mut(),
             );
         }
     }

@@ -19,10 +19,14 @@
 //! micromodulus `15μ(1/m_i + 1/m_j)`.
 //!
 //! The pass goes over directed bonds (each pair from both ends), a particle summing its own
-//! bonds in order: the same bits whatever the thread count. Symmetry planes: a partner's
+//! bonds in a fixed order (four lanes of AVX2 where the processor has it: `kernel`): the
+//! same bits whatever the thread count. The factors of the weights are kept in single
+//! precision, as the bond-based pass keeps its weights: the pass streams them. Symmetry planes: a partner's
 //! whole volume in the sums, the particle's held share `V_i` on its force (as the bond-based
 //! pass, [`crate::case::pairs`]); a mirror image takes its source's `m` and `θ`.
 
+#[cfg(target_arch = "x86_64")]
+mod kernel;
 pub mod position_aware;
 mod skin;
 
@@ -57,12 +61,12 @@ pub struct Lps {
     pub skin: bool,
     /// Per directed bond `i → j`: the factor of its dilatation weight in particle `i`'s state
     /// and of `j → i` in `j`'s ([`position_aware`]; empty: 1).
-    dilatation_own: Vec<f64>,
-    dilatation_partner: Vec<f64>,
+    dilatation_own: Vec<f32>,
+    dilatation_partner: Vec<f32>,
     /// Per directed bond `i → j`: the factor of its deviatoric weight in `i`'s state and of
     /// `j → i` in `j`'s (the position-aware weight times the skin's `s_i(ξ)`; empty: 1).
-    deviatoric_own: Vec<f64>,
-    deviatoric_partner: Vec<f64>,
+    deviatoric_own: Vec<f32>,
+    deviatoric_partner: Vec<f32>,
     /// Per real particle: `m^s_i = Σ_j ω s_i |ξ|² v_c V_j` with the deviatoric factors (empty
     /// where they are 1).
     deviatoric_moment: Vec<f64>,
@@ -74,8 +78,6 @@ pub struct Lps {
     /// Per real particle: the force state's three constants of the last pass (scratch; a
     /// `Vec3` so that a decomposed run sends them to ghosts as it sends displacements).
     state: Vec<Vec3>,
-    /// Per directed bond: its extension in the last pass (scratch).
-    extension: Vec<f64>,
 }
 
 /// How the bonds stretch in a pass.
@@ -132,13 +134,12 @@ impl Lps {
             dilatation: vec![0.0; n],
             deviation: vec![0.0; n],
             state: vec![Vec3::zeros(); n],
-            extension: Vec::new(),
         };
         if position_aware {
             let c = position_aware::coefficients(case, &lps.bond_volume, &lps.weighted_volume);
             let [d_own, d_partner, v_own, v_partner] = position_aware::bond_weights(case, &c);
-            lps.dilatation_own = d_own;
-            lps.dilatation_partner = d_partner;
+            lps.dilatation_own = single(d_own);
+            lps.dilatation_partner = single(d_partner);
             lps.set_deviatoric(case, v_own, v_partner);
         } else {
             lps.correction = surface_factors(&lps, case, youngs, poisson);
@@ -146,11 +147,16 @@ impl Lps {
         lps
     }
 
+    /// Takes directed bond `b` out of the dilatation and the force state (a broken bond).
+    pub fn cut(&mut self, b: usize) {
+        self.bond_volume[b] = 0.0;
+    }
+
     /// Particle `i`'s dilatation factor of directed bond `b` and its partner's (1: none).
     #[inline]
     pub fn dilatation_factors(&self, b: usize) -> (f64, f64) {
         match (self.dilatation_own.get(b), self.dilatation_partner.get(b)) {
-            (Some(&a), Some(&c)) => (a, c),
+            (Some(&a), Some(&c)) => (f64::from(a), f64::from(c)),
             _ => (1.0, 1.0),
         }
     }
@@ -159,24 +165,28 @@ impl Lps {
     #[inline]
     pub fn deviatoric_factors(&self, b: usize) -> (f64, f64) {
         match (self.deviatoric_own.get(b), self.deviatoric_partner.get(b)) {
-            (Some(&a), Some(&c)) => (a, c),
+            (Some(&a), Some(&c)) => (f64::from(a), f64::from(c)),
             _ => (1.0, 1.0),
         }
     }
 
-    /// Sets the deviatoric factors per directed bond, and with them each particle's moment.
+    /// Sets the deviatoric factors per directed bond, and with them each particle's moment
+    /// (from the factors as stored, in single precision: the pass streams them, and a bond's
+    /// factor in its particle's state is the same number as in its partner's, so the pass
+    /// stays the gradient of an energy).
     fn set_deviatoric(&mut self, case: &PdCase, own: Vec<f64>, partner: Vec<f64>) {
         let bonds = &case.bonds;
+        let own = single(own);
         self.deviatoric_moment = (0..case.particles.len())
             .map(|i| {
                 bonds
                     .range(i)
-                    .map(|b| self.bond_volume[b] * own[b] * bonds.length(b).powi(2))
+                    .map(|b| self.bond_volume[b] * f64::from(own[b]) * bonds.length(b).powi(2))
                     .sum()
             })
             .collect();
         self.deviatoric_own = own;
-        self.deviatoric_partner = partner;
+        self.deviatoric_partner = single(partner);
     }
 
     /// Applies the skin correction ([`skin`]) with factors `k_i` per real particle along
@@ -309,8 +319,9 @@ impl Lps {
         match stretch {
             Stretch::Finite => self.pass(
                 case,
+                (pos, None),
                 |i, j, l| extension(Stretch::Finite, pos, i, j, l),
-                |i, j, l| direction(Stretch::Finite, pos, i, j, l),
+                |i, j, l| extension_along(Stretch::Finite, pos, i, j, l),
                 own,
                 share,
                 out,
@@ -318,8 +329,9 @@ impl Lps {
             ),
             Stretch::Small(r) => self.pass(
                 case,
+                (pos, Some(r)),
                 |i, j, l| extension(Stretch::Small(r), pos, i, j, l),
-                |i, j, l| direction(Stretch::Small(r), pos, i, j, l),
+                |i, j, l| extension_along(Stretch::Small(r), pos, i, j, l),
                 own,
                 share,
                 out,
@@ -328,14 +340,51 @@ impl Lps {
         }
     }
 
-    /// [`forces_on`](Self::forces_on) with the bonds' extension `e(i, j, l)` and force
-    /// direction `d(i, j, l)`.
+    /// [`forces_on`](Self::forces_on) with the bonds' extension `e(i, j, l)`, and `d(i, j, l)`
+    /// the extension with the direction its force acts along. The second sweep computes each
+    /// extension again rather than reading it back: the direction takes the same root (or,
+    /// linearised, the same reference bond). Whether there are deviatoric and dilatation
+    /// factors is chosen here, once, for the loops ([`Self::sweeps`]).
     #[allow(clippy::too_many_arguments)]
     fn pass<T: Send>(
         &mut self,
         case: &PdCase,
+        at: (&[Vec3], Option<&[Vec3]>),
         bond: impl Fn(usize, usize, f64) -> f64 + Sync,
-        direction: impl Fn(usize, usize, f64) -> Vec3 + Sync,
+        direction: impl Fn(usize, usize, f64) -> (f64, Vec3, f64) + Sync,
+        own: Range<usize>,
+        share: impl FnOnce(&mut [Vec3]),
+        out: &mut [T],
+        finish: impl Fn(usize, Vec3, &mut T) + Sync,
+    ) {
+        let weighted = !self.deviatoric_own.is_empty();
+        let dilated = !self.dilatation_own.is_empty();
+        match (weighted, dilated) {
+            (false, false) => {
+                self.sweeps::<false, false, T>(case, at, bond, direction, own, share, out, finish)
+            }
+            (true, false) => {
+                self.sweeps::<true, false, T>(case, at, bond, direction, own, share, out, finish)
+            }
+            (false, true) => {
+                self.sweeps::<false, true, T>(case, at, bond, direction, own, share, out, finish)
+            }
+            (true, true) => {
+                self.sweeps::<true, true, T>(case, at, bond, direction, own, share, out, finish)
+            }
+        }
+    }
+
+    /// The pass's two sweeps over the bonds, `W`: with deviatoric factors, `D`: with
+    /// dilatation factors; each particle's bonds four at a time in AVX2 where the processor
+    /// has it ([`kernel`]), else one at a time.
+    #[allow(clippy::too_many_arguments)]
+    fn sweeps<const W: bool, const D: bool, T: Send>(
+        &mut self,
+        case: &PdCase,
+        (pos, reference): (&[Vec3], Option<&[Vec3]>),
+        bond: impl Fn(usize, usize, f64) -> f64 + Sync,
+        direction: impl Fn(usize, usize, f64) -> (f64, Vec3, f64) + Sync,
         own: Range<usize>,
         share: impl FnOnce(&mut [Vec3]),
         out: &mut [T],
@@ -350,37 +399,63 @@ impl Lps {
             &self.deviatoric_moment,
         );
         let (d_own, d_partner) = (&self.dilatation_own, &self.dilatation_partner);
-        let weighted = !v_own.is_empty();
-        let dilated = !d_own.is_empty();
-        // Each bond's extension, kept for the second pass.
-        self.extension.resize(bonds.len(), 0.0);
-        bonds
-            .blocks(&mut self.extension, CHUNK)
-            .into_par_iter()
-            .zip(self.dilatation.par_chunks_mut(CHUNK))
+        #[cfg(target_arch = "x86_64")]
+        let avx = crate::case::pairs::has_avx2_fma();
+        #[cfg(target_arch = "x86_64")]
+        let row = |r: Range<usize>| kernel::Row {
+            partner: &bonds.partner[r.clone()],
+            length: &bonds.length[r.clone()],
+            volume: &bv[r.clone()],
+            dev_own: if W { &v_own[r.clone()] } else { &[] },
+            dev_partner: if W { &v_partner[r.clone()] } else { &[] },
+            dil_own: if D { &d_own[r.clone()] } else { &[] },
+            dil_partner: if D { &d_partner[r] } else { &[] },
+        };
+        // One particle's dilatation sums, a bond at a time.
+        let dilatation_sums = |i: usize, r: Range<usize>| {
+            let (mut sum, mut deviatoric) = (0.0, 0.0);
+            for b in r {
+                let (l, j) = (bonds.length(b), bonds.partner[b] as usize);
+                let w = bv[b] * l * bond(i, j, l);
+                sum += if D { w * f64::from(d_own[b]) } else { w };
+                if W {
+                    deviatoric += w * f64::from(v_own[b]);
+                }
+            }
+            (sum, deviatoric)
+        };
+        self.dilatation
+            .par_chunks_mut(CHUNK)
             .zip(self.deviation.par_chunks_mut(CHUNK))
-            .for_each(|(((range, ext), theta), dev)| {
-                let first = bonds.offsets[range.start];
-                for ((i, t), d) in range.zip(theta.iter_mut()).zip(dev.iter_mut()) {
+            .enumerate()
+            .for_each(|(c, (theta, dev))| {
+                let start = c * CHUNK;
+                for (q, (t, d)) in theta.iter_mut().zip(dev.iter_mut()).enumerate() {
+                    let i = start + q;
                     if !own.contains(&i) {
                         continue;
                     }
-                    let (mut sum, mut deviatoric) = (0.0, 0.0);
-                    for b in bonds.range(i) {
-                        let l = bonds.length(b);
-                        let e = bond(i, bonds.partner[b] as usize, l);
-                        ext[b - first] = e;
-                        let w = bv[b] * l * e;
-                        sum += if dilated { w * d_own[b] } else { w };
-                        if weighted {
-                            deviatoric += w * v_own[b];
+                    let r = bonds.range(i);
+                    #[cfg(target_arch = "x86_64")]
+                    let (sum, deviatoric) = if avx {
+                        let row = row(r);
+                        // SAFETY: the processor has AVX2 and FMA; every access is checked.
+                        unsafe {
+                            match reference {
+                                None => kernel::dilatation_sums::<W, D, false>(&row, pos, &[], i),
+                                Some(x) => kernel::dilatation_sums::<W, D, true>(&row, pos, x, i),
+                            }
                         }
-                    }
+                    } else {
+                        dilatation_sums(i, r)
+                    };
+                    #[cfg(not(target_arch = "x86_64"))]
+                    let (sum, deviatoric) = dilatation_sums(i, r);
                     *t = if m[i] > 0.0 { 3.0 * sum / m[i] } else { 0.0 };
                     // D_i = Σ ω v e^d |ξ| V / 3, which vanishes where v = 1 and the dilatation's
                     // weights are 1 (Σ ω e|ξ|V = mθ/3); position-aware dilatation weights
                     // come with deviatoric ones.
-                    *d = if weighted {
+                    *d = if W {
                         (deviatoric - *t * mv[i] / 3.0) / 3.0
                     } else {
                         0.0
@@ -416,13 +491,37 @@ impl Lps {
                 }
             });
         share(&mut self.state);
-        let (state, extension) = (&self.state, &self.extension);
+        let state = &self.state;
         let source = |j: usize| {
             if j < n {
                 j
             } else {
                 case.ghosts.source[j - n] as usize
             }
+        };
+        // One particle's force, a bond at a time.
+        let force_sum = |i: usize, r: Range<usize>| {
+            let [ai, bi, ci] = state[i].into();
+            let mut f = Vec3::zeros();
+            for b in r {
+                let l = bonds.length(b);
+                let j = bonds.partner[b] as usize;
+                let (e, dir, inv) = direction(i, j, l);
+                let (vi, vj) = if W {
+                    (f64::from(v_own[b]), f64::from(v_partner[b]))
+                } else {
+                    (1.0, 1.0)
+                };
+                let (di, dj) = if D {
+                    (f64::from(d_own[b]), f64::from(d_partner[b]))
+                } else {
+                    (1.0, 1.0)
+                };
+                let [aj, bj, cj] = state[source(j)].into();
+                let t = ai * di * l + bi * vi * (e - ci * l) + aj * dj * l + bj * vj * (e - cj * l);
+                f += dir * (t * bv[b] * inv);
+            }
+            f
         };
         let vol = &case.particles.volume;
         out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
@@ -431,28 +530,27 @@ impl Lps {
                 if !own.contains(&i) {
                     continue;
                 }
-                let [ai, bi, ci] = state[i].into();
-                let mut f = Vec3::zeros();
-                for b in bonds.range(i) {
-                    let l = bonds.length(b);
-                    let j = bonds.partner[b] as usize;
-                    let e = extension[b];
-                    let dir = direction(i, j, l);
-                    let (vi, vj) = if weighted {
-                        (v_own[b], v_partner[b])
-                    } else {
-                        (1.0, 1.0)
-                    };
-                    let (di, dj) = if dilated {
-                        (d_own[b], d_partner[b])
-                    } else {
-                        (1.0, 1.0)
-                    };
-                    let [aj, bj, cj] = state[source(j)].into();
-                    let t =
-                        ai * di * l + bi * vi * (e - ci * l) + aj * dj * l + bj * vj * (e - cj * l);
-                    f += dir * (t * bv[b]);
-                }
+                let r = bonds.range(i);
+                #[cfg(target_arch = "x86_64")]
+                let f = if avx {
+                    let row = row(r);
+                    let src = &case.ghosts.source;
+                    // SAFETY: the processor has AVX2 and FMA; every access is checked.
+                    unsafe {
+                        match reference {
+                            None => {
+                                kernel::force_sum::<W, D, false>(&row, pos, &[], state, src, n, i)
+                            }
+                            Some(x) => {
+                                kernel::force_sum::<W, D, true>(&row, pos, x, state, src, n, i)
+                            }
+                        }
+                    }
+                } else {
+                    force_sum(i, r)
+                };
+                #[cfg(not(target_arch = "x86_64"))]
+                let f = force_sum(i, r);
                 finish(i, f * vol[i], o);
             }
         });
@@ -481,12 +579,17 @@ impl Lps {
     }
 }
 
+/// Per-bond factors in single precision, as the pass streams them.
+fn single(v: Vec<f64>) -> Vec<f32> {
+    v.into_iter().map(|x| x as f32).collect()
+}
+
 /// The extension `e` of the bond from `i` to `j` (reference length `l`) at positions `pos`.
 #[inline]
 fn extension(stretch: Stretch, pos: &[Vec3], i: usize, j: usize, l: f64) -> f64 {
     match stretch {
         Stretch::Finite => (pos[j] - pos[i]).norm() - l,
-        Stretch::Small(r) => ((pos[j] - r[j]) - (pos[i] - r[i])).dot(&((r[j] - r[i]) / l)),
+        Stretch::Small(r) => ((pos[j] - r[j]) - (pos[i] - r[i])).dot(&(r[j] - r[i])) / l,
     }
 }
 
@@ -546,14 +649,21 @@ fn surface_factors(lps: &Lps, case: &PdCase, youngs: f64, poisson: f64) -> Vec<f
         .collect()
 }
 
-/// The direction the force of the bond from `i` to `j` (reference length `l`) acts along.
+/// The extension of the bond from `i` to `j` (reference length `l`) at positions `pos`, as
+/// [`extension`] gives it, with the direction its force acts along as a vector `v` and the
+/// inverse of its length (the direction `v/|v|`): one division a bond rather than three.
 #[inline]
-fn direction(stretch: Stretch, pos: &[Vec3], i: usize, j: usize, l: f64) -> Vec3 {
+fn extension_along(stretch: Stretch, pos: &[Vec3], i: usize, j: usize, l: f64) -> (f64, Vec3, f64) {
     match stretch {
         Stretch::Finite => {
             let y = pos[j] - pos[i];
-            y / y.norm()
+            let r = y.norm();
+            (r - l, y, 1.0 / r)
         }
-        Stretch::Small(r) => (r[j] - r[i]) / l,
+        Stretch::Small(r) => {
+            let xi = r[j] - r[i];
+            let inv = 1.0 / l;
+            (((pos[j] - r[j]) - (pos[i] - r[i])).dot(&xi) * inv, xi, inv)
+        }
     }
 }

@@ -95,7 +95,7 @@ fn bond_sum_portable<const SCATTER: bool>(
 /// Whether the processor has AVX2 and FMA (the standard library caches the answer).
 #[cfg(target_arch = "x86_64")]
 #[inline]
-fn has_avx2_fma() -> bool {
+pub(crate) fn has_avx2_fma() -> bool {
     std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
 }
 
@@ -104,7 +104,7 @@ fn has_avx2_fma() -> bool {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-unsafe fn gather4(v: &[Vec3], j: &[u32]) -> [std::arch::x86_64::__m256d; 3] {
+pub(crate) unsafe fn gather4(v: &[Vec3], j: &[u32]) -> [std::arch::x86_64::__m256d; 3] {
     use std::arch::x86_64::*;
     let p: [*const f64; 4] =
         std::array::from_fn(|m| (&v[j[m] as usize] as *const Vec3).cast::<f64>());
@@ -163,7 +163,7 @@ unsafe fn scatter_sub4(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[inline]
-unsafe fn hsum(v: std::arch::x86_64::__m256d) -> f64 {
+pub(crate) unsafe fn hsum(v: std::arch::x86_64::__m256d) -> f64 {
     use std::arch::x86_64::*;
     let mut l = [0.0f64; 4];
     _mm256_storeu_pd(l.as_mut_ptr(), v);

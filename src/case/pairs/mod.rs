@@ -31,6 +31,8 @@ use rayon::prelude::*;
 
 pub use buffers::ForceBuffers;
 use kernel::{bond_sum, Scatter};
+#[cfg(target_arch = "x86_64")]
+pub(crate) use kernel::{gather4, has_avx2_fma, hsum};
 
 use crate::case::neighbours::BondList;
 use crate::math::Vec3;
