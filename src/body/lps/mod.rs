@@ -29,6 +29,8 @@
 mod kernel;
 pub mod position_aware;
 mod skin;
+#[cfg(test)]
+mod tests;
 
 use std::ops::Range;
 
@@ -78,6 +80,9 @@ pub struct Lps {
     /// Per real particle: the force state's three constants of the last pass (scratch; a
     /// `Vec3` so that a decomposed run sends them to ghosts as it sends displacements).
     state: Vec<Vec3>,
+    /// The sweeps a bond at a time even where the processor has AVX2 (the tests' check of
+    /// the vector sweeps).
+    portable: bool,
 }
 
 /// How the bonds stretch in a pass.
@@ -134,6 +139,7 @@ impl Lps {
             dilatation: vec![0.0; n],
             deviation: vec![0.0; n],
             state: vec![Vec3::zeros(); n],
+            portable: false,
         };
         if position_aware {
             let c = position_aware::coefficients(case, &lps.bond_volume, &lps.weighted_volume);
@@ -400,7 +406,7 @@ impl Lps {
         );
         let (d_own, d_partner) = (&self.dilatation_own, &self.dilatation_partner);
         #[cfg(target_arch = "x86_64")]
-        let avx = crate::case::pairs::has_avx2_fma();
+        let avx = !self.portable && crate::case::pairs::has_avx2_fma();
         #[cfg(target_arch = "x86_64")]
         let row = |r: Range<usize>| kernel::Row {
             partner: &bonds.partner[r.clone()],
