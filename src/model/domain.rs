@@ -232,6 +232,20 @@ impl Domain {
         u
     }
 
+    /// Which particles of body `k` (`n` of them) this rank owns among `nodes`, the nodes any
+    /// rank names: each rank sends the nodes it names to their owners. Collective.
+    pub fn mark_owned(&self, k: usize, nodes: &[u32], n: usize) -> Vec<bool> {
+        let mut out: Vec<Vec<f64>> = vec![Vec::new(); self.comm.size()];
+        for &node in nodes {
+            out[owner(&self.ranges[k], node as usize)].push(f64::from(node));
+        }
+        let mut marked = vec![false; n];
+        for node in self.comm.exchange(&out).into_iter().flatten() {
+            marked[node as usize] = true;
+        }
+        marked
+    }
+
     /// Applies the contact forces of every pass found on this rank (its own slaves): the
     /// reactions on a deformable master go to the nodes' owners, who add them contact by
     /// contact, rank after rank, pass after pass, as one process's [`ContactPass::apply`]

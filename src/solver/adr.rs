@@ -25,15 +25,62 @@ const CONTACT_ROW: f64 = 0.683;
 /// ([`Model::is_one_way_deformable`]): its density follows the larger of its current contact
 /// stiffness and this share of the density's last contact part.
 ///
-/// Such a master's nodes are nobody's slaves, so they get no light-contact floor: when the
-/// slave pressing a node lifted off, the node's density fell to its bonds' alone (100-500
-/// times less), the bonds' force stored under the contact threw it a centimetre in one
+/// Such a master's nodes are nobody's slaves, and they had no floor then (now a light
+/// contact's while a slave may touch them, [`touchable_master_nodes`], far below a pressed
+/// contact's): when the slave pressing a node lifted off, the node's density fell to its
+/// bonds' alone (100-500 times less), the bonds' force stored under the contact threw it a centimetre in one
 /// iteration, into the slave, which then met it 1 cm deep. Measured on twelve pairs of gmsh
 /// spheres pressed together with one pass (docs/VALIDATION.md, "One pass, and pairs of other
 /// sizes"): without it ADR lost a slave on every one; at 0.9 or 0.93 it converged on 11 of the
 /// 12 (not the tet10 pair at h = 0.1), at 0.8 or 0.85 on 10: too short a memory, or so long
 /// that a master node held too heavy lets the slave sink.
 pub const OPENED_CONTACT_MEMORY: f64 = 0.9;
+
+/// The nodes of deformable master `k` that a slave of a one-way pass
+/// ([`Model::is_one_way_deformable`]) may touch within a step (a corner of a segment among
+/// that slave's candidates), over all ranks, and the light-contact stiffness of those passes.
+///
+/// A slave that may touch gets ADR's light-contact stiffness; such a master's nodes are
+/// nobody's slaves and got none until a contact pressed them, so in ADR's transient they moved
+/// at their bonds' density, 100-500 times lighter: the nodes under the slaves slid sideways
+/// by centimetres, and the pair's slow modes took longer to settle. Given the same floor as
+/// the slaves facing them (added to their contact stiffness: the larger of the two settled
+/// fewer pairs), the one-pass pairs of docs/VALIDATION.md ("Two deformable bodies", cause 9)
+/// settle in 1.03-1.89 times the iterations of the same slave mesh on a rigid plane, where
+/// they took up to 2.4 times, to the same figures.
+fn touchable_master_nodes(model: &Model, k: usize) -> (Vec<bool>, f64) {
+    let Body::Deformable(pd) = &model.bodies[k] else {
+        return (Vec::new(), 0.0);
+    };
+    let segments = &pd.case.segments.segments;
+    let mut nodes = Vec::new();
+    let mut light = 0.0f64;
+    for p in model
+        .passes
+        .iter()
+        .filter(|p| p.master == k && model.is_one_way_deformable(p))
+    {
+        light = light.max(p.weight * p.law.relaxation_stiffness(0.0));
+        for s in 0..p.slaves.len() {
+            for &seg in p.candidates(s) {
+                nodes.extend(segments[seg as usize].nodes);
+            }
+        }
+    }
+    nodes.sort_unstable();
+    nodes.dedup();
+    let marked = match &model.domain {
+        Some(dom) => dom.mark_owned(k, &nodes, pd.len()),
+        None => {
+            let mut m = vec![false; pd.len()];
+            for &n in &nodes {
+                m[n as usize] = true;
+            }
+            m
+        }
+    };
+    (marked, light)
+}
 
 /// The contact part of a body's ADR density: the remembered one where the body keeps
 /// [`OPENED_CONTACT_MEMORY`] (`memory > 0`), else its current contact stiffness.
@@ -322,15 +369,18 @@ pub(super) fn adr_increment(
         n += 1;
         model.compute_forces();
         update_rigid_lambda(model, &mut rigid_lambda);
-        for (k, b) in model.bodies.iter().enumerate() {
-            if let (Body::Deformable(pd), keep) = (b, memory[k]) {
-                if keep == 0.0 {
-                    continue;
-                }
-                let kc = &mut contact_density[k];
-                for i in pd.owned.clone() {
-                    kc[i] = pd.contact_stiffness[i].max(keep * kc[i]);
-                }
+        for (k, keep) in memory.iter().enumerate() {
+            if *keep == 0.0 {
+                continue;
+            }
+            let (touchable, light) = touchable_master_nodes(model, k);
+            let Body::Deformable(pd) = &model.bodies[k] else {
+                continue;
+            };
+            let kc = &mut contact_density[k];
+            for i in pd.owned.clone() {
+                let floor = if touchable[i] { light } else { 0.0 };
+                kc[i] = (pd.contact_stiffness[i] + floor).max(keep * kc[i]);
             }
         }
         // One pass over each body's particles for the finiteness check, the residual and the
