@@ -336,7 +336,7 @@ fn penalty_not_the_cause(model: &Model) -> Option<String> {
     }
     let one_pass = missed.iter().any(|p| model.is_one_way_deformable(p));
     let what = if one_pass {
-        "with one pass only the slave's particles are kept out of the master's surface, not the master's out of the slave's, and ADR's transient can carry a master node into the slave: solve with kind = \"static\" (it converged on every one-pass pair measured) or set `two_pass = true` on the [[contact]]"
+        "with one pass only the slave's particles are kept out of the master's surface, not the master's out of the slave's, and ADR's transient can carry a master node into the slave: solve with kind = \"static\" (it converged on every one-pass pair measured), apply the load in steps (load_steps = 2 settled the one pair measured where ADR lost a slave at once), or set `two_pass = true` on the [[contact]]"
     } else {
         "the solver's transient carried it through before the contacts took the load: apply the load in steps (load_steps) or solve with kind = \"static\""
     };
