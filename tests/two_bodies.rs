@@ -293,9 +293,10 @@ fn an_lps_sphere_on_a_bond_based_one() {
 /// upper MRE 4.65 %, radius −1.10 %; two passes 4.29 %, +1.72 %; the upper mesh on a rigid
 /// plane 4.40 %, +1.74 %, in 500 ADR iterations). ADR takes at most twice the iterations of
 /// the same slave mesh on a rigid plane (1,202, 2.4 times, before the master's nodes that a
-/// slave may touch got ADR's light-contact density). The static solver's Newton iterations stalled here once the
-/// contact had settled (its rim cycling) and ADR finished the increment from where they
-/// stopped (41 Newton, 285 ADR), until the line search followed the energy's slope.
+/// slave may touch got ADR's light-contact density). The static solver's Newton iterations
+/// stalled here once the contact had settled (its rim cycling) and ADR finished the increment
+/// from where they stopped (41 Newton, 285 ADR), until the line search followed the energy's
+/// slope.
 /// Before the run, `run --check` says that the master's pressure reads rough.
 #[test]
 fn one_pass_converges_to_the_slaves_figures() {

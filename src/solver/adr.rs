@@ -28,8 +28,8 @@ const CONTACT_ROW: f64 = 0.683;
 /// Such a master's nodes are nobody's slaves, and they had no floor then (now a light
 /// contact's while a slave may touch them, [`touchable_master_nodes`], far below a pressed
 /// contact's): when the slave pressing a node lifted off, the node's density fell to its
-/// bonds' alone (100-500 times less), the bonds' force stored under the contact threw it a centimetre in one
-/// iteration, into the slave, which then met it 1 cm deep. Measured on twelve pairs of gmsh
+/// bonds' alone (100-500 times less), the bonds' force stored under the contact threw it a
+/// centimetre in one iteration, into the slave, which then met it 1 cm deep. Measured on twelve pairs of gmsh
 /// spheres pressed together with one pass (docs/VALIDATION.md, "One pass, and pairs of other
 /// sizes"): without it ADR lost a slave on every one; at 0.9 or 0.93 it converged on 11 of the
 /// 12 (not the tet10 pair at h = 0.1), at 0.8 or 0.85 on 10: too short a memory, or so long
