@@ -362,6 +362,9 @@ pub(super) fn adr_increment(
             _ => Vec::new(),
         })
         .collect();
+    // Per body, the nodes [`touchable_master_nodes`] marks and its light-contact stiffness, as
+    // of the Verlet rebuild count they were found at.
+    let mut touchable: Vec<(Option<usize>, Vec<bool>, f64)> = vec![(None, Vec::new(), 0.0); nb];
     let mut best = f64::INFINITY;
     let mut past = PastCheck::default();
     let mut n = n0;
@@ -373,13 +376,24 @@ pub(super) fn adr_increment(
             if *keep == 0.0 {
                 continue;
             }
-            let (touchable, light) = touchable_master_nodes(model, k);
+            // The candidates change only when a Verlet list is rebuilt.
+            let rebuilds: usize = model
+                .passes
+                .iter()
+                .filter(|p| p.master == k)
+                .map(|p| p.verlet.rebuilds)
+                .sum();
+            if touchable[k].0 != Some(rebuilds) {
+                let (marked, light) = touchable_master_nodes(model, k);
+                touchable[k] = (Some(rebuilds), marked, light);
+            }
+            let (_, marked, light) = &touchable[k];
             let Body::Deformable(pd) = &model.bodies[k] else {
                 continue;
             };
             let kc = &mut contact_density[k];
             for i in pd.owned.clone() {
-                let floor = if touchable[i] { light } else { 0.0 };
+                let floor = if marked[i] { *light } else { 0.0 };
                 kc[i] = (pd.contact_stiffness[i] + floor).max(keep * kc[i]);
             }
         }
