@@ -279,7 +279,8 @@ fn missed_contact_of_a_soft_penalty() {
     assert!(
         f.message.contains("missed contact at iteration")
             && f.message.contains("penalty is too soft")
-            && f.message.contains("the deepest: node"),
+            && f.message.contains("the deepest: node")
+            && f.message.contains("with half the load step 4 times"),
         "{}",
         f.message
     );

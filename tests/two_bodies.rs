@@ -33,9 +33,22 @@ fn toml_string(p: &Path) -> String {
 }
 
 /// The scene of `tools/gmsh_two_spheres.py` on the stored meshes: the lower sphere
-/// deformable (two passes or one) or a rigid plane at its pole.
+/// deformable (two passes or one) or a rigid plane at its pole; `lower = "tet10"` takes the
+/// tet10 pair (h = 0.1 m, every node a particle) for both spheres.
 fn scene(kind: &str, lower: &str, two_pass: bool) -> String {
-    let upper = mesh("two_spheres_upper_h006.msh");
+    let (upper, lower_mesh, order) = if lower == "tet10" {
+        (
+            mesh("two_spheres_upper_tet10_h01.msh"),
+            mesh("two_spheres_lower_tet10_h01.msh"),
+            "second_order = \"all-nodes\"\n",
+        )
+    } else {
+        (
+            mesh("two_spheres_upper_h006.msh"),
+            mesh("two_spheres_lower_h006.msh"),
+            "",
+        )
+    };
     let lower_body = match lower {
         "rigid" => r#"[[body]]
 name = "lower"
@@ -46,9 +59,9 @@ generator = { shape = "plane", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0]
         _ => format!(
             r#"[[body]]
 name = "lower"
-mesh = {}
+mesh = {lower_mesh}
 kinematics = "small"
-[body.material]
+{order}[body.material]
 youngs_modulus = {YOUNGS:e}
 poisson_ratio = {POISSON}
 density = 1000.0
@@ -63,8 +76,7 @@ body = "lower"
 axis = "z"
 at = -1.0
 keep = "positive"
-"#,
-            mesh("two_spheres_lower_h006.msh")
+"#
         ),
     };
     format!(
@@ -78,7 +90,7 @@ every = 1000000
 name = "upper"
 mesh = {upper}
 kinematics = "small"
-[body.material]
+{order}[body.material]
 youngs_modulus = {YOUNGS:e}
 poisson_ratio = {POISSON}
 density = 1000.0
@@ -109,6 +121,11 @@ struct Figures {
 }
 
 fn run(name: &str, text: &str, e_star: f64, r_star: f64) -> Figures {
+    run_in(name, text, e_star, r_star, |_| {})
+}
+
+/// [`run`], then `look` at the output folder before it is removed.
+fn run_in(name: &str, text: &str, e_star: f64, r_star: f64, look: impl FnOnce(&Path)) -> Figures {
     let dir = temp_dir(name);
     let path = dir.join("scene.toml");
     std::fs::write(&path, text).expect("scene written");
@@ -132,6 +149,7 @@ fn run(name: &str, text: &str, e_star: f64, r_star: f64) -> Figures {
             (acc.mre, acc.radius_error, patch.force.z.abs() / load - 1.0)
         })
         .collect();
+    look(&dir.join("out"));
     let _ = std::fs::remove_dir_all(&dir);
     Figures { summary, bodies }
 }
@@ -361,6 +379,71 @@ fn one_pass_converges_to_the_slaves_figures() {
         "ADR after Newton: {relaxed}, ADR alone: {}",
         adr.summary.iterations
     );
+    assert_same_figures(adr.bodies[0], newton.bodies[0]);
+}
+
+/// Where ADR's transient loses a slave under the whole load (one pass on the tet10 pair, a
+/// master node carried into the slave before the contact held it: docs/VALIDATION.md, "One
+/// pass, and pairs of other sizes"), the increment starts again from the last equilibrium
+/// with half the load step and converges to the static solver's equilibrium. Measured on
+/// this pair: the slave lost at iteration 162, then 2,803 iterations in all; the upper
+/// sphere's MRE 1.65 %, radius −0.68 %; static 1.65 %, −0.68 %. The frames of the try that
+/// lost it, states off the load path, are not kept: the frames left rise in load factor.
+#[test]
+fn one_pass_adr_cuts_back_an_increment_that_loses_a_slave() {
+    let mut frames = Vec::new();
+    let adr = run_in(
+        "cut-back-adr",
+        &scene("adr", "tet10", false).replace("every = 1000000", "every = 100"),
+        two_spheres_e_star(),
+        0.5,
+        |out| {
+            let pvd = std::fs::read_to_string(out.join("run.pvd")).expect("run.pvd");
+            for line in pvd.lines().filter(|l| l.contains("timestep=")) {
+                let field = |key: &str| {
+                    line.split(&format!("{key}=\""))
+                        .nth(1)
+                        .and_then(|t| t.split('"').next())
+                        .map(str::to_string)
+                        .unwrap_or_else(|| panic!("no {key} in {line}"))
+                };
+                let t: f64 = field("timestep").parse().expect("a timestep");
+                let file = field("file");
+                assert!(out.join(&file).is_file(), "{file} listed, not written");
+                frames.push((t, file));
+            }
+            let written = std::fs::read_dir(out)
+                .expect("the output folder")
+                .flatten()
+                .filter(|e| e.file_name().to_string_lossy().ends_with(".vtm"))
+                .count();
+            assert_eq!(written, frames.len(), "frames written but not listed");
+        },
+    );
+    assert!(
+        frames.windows(2).all(|w| w[0].0 < w[1].0) && frames.len() > 20,
+        "{frames:?}"
+    );
+    assert!(
+        !frames.iter().any(|(_, f)| f == "frame_000100.vtm"),
+        "{frames:?}"
+    );
+    let newton = run(
+        "cut-back-static",
+        &scene("static", "tet10", false),
+        two_spheres_e_star(),
+        0.5,
+    );
+    assert!(
+        adr.summary.converged,
+        "residual {} after {}",
+        adr.summary.residual, adr.summary.iterations
+    );
+    assert!(adr.summary.solver.cutbacks >= 1, "{:?}", adr.summary.solver);
+    let (mre, radius, force) = adr.bodies[0];
+    assert!(mre < 0.03, "upper MRE {mre}");
+    assert!(radius.abs() < 0.03, "upper radius error {radius}");
+    assert!(force.abs() < 1e-3, "contact force off by {force}");
     assert_same_figures(adr.bodies[0], newton.bodies[0]);
 }
 

@@ -150,6 +150,8 @@ pub struct FrameWriter {
     hi: f64,
     start: usize,
     last_written: Option<usize>,
+    /// ADR: an increment was cut back, and the state it starts again from is a frame already.
+    restarted: bool,
 }
 
 impl FrameWriter {
@@ -190,6 +192,7 @@ impl FrameWriter {
             hi: 1.0,
             start: 0,
             last_written: None,
+            restarted: false,
         }
     }
 
@@ -207,7 +210,7 @@ impl FrameWriter {
     /// ADR: a load increment applying `factor` of the load begins after `iteration`; the state
     /// the increment before ended in is written as a frame first.
     pub fn load_increment(&mut self, model: &Model, factor: f64, iteration: usize) -> Result<()> {
-        if iteration > 0 {
+        if iteration > 0 && !std::mem::take(&mut self.restarted) {
             self.write(model, iteration, iteration as f64)?;
         }
         for e in &mut self.entries {
@@ -216,6 +219,35 @@ impl FrameWriter {
         self.lo = if iteration > 0 { self.hi } else { 0.0 };
         self.hi = factor;
         self.start = iteration;
+        Ok(())
+    }
+
+    /// ADR: the increment that began after iteration `start` lost a slave in its transient and
+    /// starts again from the equilibrium at load factor `done` with a shorter step. Its
+    /// frames, states off the load path, are removed (the folder and the `.pvd`); the state it
+    /// starts again from was written when the increment began.
+    pub fn cut_back(&mut self, done: f64) -> Result<()> {
+        let start = self.start;
+        let (kept, dropped): (Vec<Entry>, Vec<Entry>) = std::mem::take(&mut self.entries)
+            .into_iter()
+            .partition(|e| e.step <= start);
+        self.entries = kept;
+        for e in &dropped {
+            let vtm = self.folder.join(&e.file);
+            let dir = vtm.with_extension("");
+            std::fs::remove_dir_all(&dir).map_err(|err| Error::output(&dir, err))?;
+            std::fs::remove_file(&vtm).map_err(|err| Error::output(&vtm, err))?;
+        }
+        self.hi = done;
+        self.restarted = true;
+        if !dropped.is_empty() {
+            self.last_written = self.entries.last().map(|e| e.step);
+            let mut pvd = PvdCollection::default();
+            for e in &self.entries {
+                pvd.push(self.timestep(e), e.file.clone());
+            }
+            pvd.write(&self.pvd_path())?;
+        }
         Ok(())
     }
 
@@ -670,6 +702,21 @@ impl Monitor for RunMonitor {
     fn load_increment(&mut self, model: &Model, factor: f64, iteration: usize) -> Result<()> {
         match &mut self.frames {
             Some(f) => f.load_increment(model, factor, iteration),
+            None => Ok(()),
+        }
+    }
+
+    fn cut_back(&mut self, _model: &Model, done: f64, target: f64, iteration: usize) -> Result<()> {
+        let line = format!(
+            "a slave went through its master at iteration {iteration}: the increment starts again from load factor {done:.4} with half the step, to {target:.4}"
+        );
+        if self.plain.is_some() {
+            eprintln!("{line}");
+        } else {
+            self.bar.println(line);
+        }
+        match &mut self.frames {
+            Some(f) => f.cut_back(done),
             None => Ok(()),
         }
     }

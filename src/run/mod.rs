@@ -395,6 +395,10 @@ impl Monitor for Tee<'_> {
         self.run.load_increment(model, factor, iteration)?;
         self.observer.load_increment(model, factor, iteration)
     }
+    fn cut_back(&mut self, model: &Model, done: f64, target: f64, iteration: usize) -> Result<()> {
+        self.run.cut_back(model, done, target, iteration)?;
+        self.observer.cut_back(model, done, target, iteration)
+    }
     fn increment_done(&mut self, model: &Model, factor: f64, iteration: usize) -> Result<()> {
         self.run.increment_done(model, factor, iteration)?;
         self.observer.increment_done(model, factor, iteration)

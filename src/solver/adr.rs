@@ -5,6 +5,7 @@
 
 use rayon::prelude::*;
 
+use super::state::State;
 use super::unheld::{PastCheck, EVERY};
 use super::{
     applied_norm, check_missed, displacement_reference, driven, free_factor, full_loads,
@@ -211,6 +212,14 @@ impl AdrSums {
 /// free rigid body overshoots its equilibrium before the damping catches it. Where the overshoot
 /// is large (a punch pressed at a tenth of E into a body with finite kinematics) the body can be
 /// driven into a state it does not come back from; increments keep each overshoot small.
+///
+/// The same overshoot can carry a slave through its master before the contact holds it
+/// (one pass between deformable bodies: a master node moved into the slave, docs/VALIDATION.md,
+/// "One pass, and pairs of other sizes"), where the equilibrium has no such miss. An
+/// increment that loses a slave starts again from the last equilibrium with half its load
+/// step, up to [`MAX_CUTBACKS`] times, each step after one that converged twice as long, up
+/// to the increment's end: the static solver's cut-backs (`solver.cutbacks`). Not in bodies
+/// whose bonds may break, which would stay broken when the increment is walked again.
 pub fn adr(
     model: &mut Model,
     tolerance: f64,
@@ -234,37 +243,90 @@ pub fn adr(
     };
     let steps = load_steps.max(1);
     let full = full_loads(model);
+    // Bonds that break in an increment that is then cut back would stay broken: the path
+    // would not be the one walked again. Such runs take their increments as given.
+    let may_cut = !model.bodies.iter().filter_map(Body::as_pd).any(|pd| {
+        pd.fracture
+            .as_ref()
+            .is_some_and(|f| f.critical_stretch.is_some())
+    });
     let mut n = 0;
-    for step in 1..=steps {
-        let scale = step as f64 / steps as f64;
-        if steps > 1 {
-            scale_loads(model, &full, scale);
+    let mut done = 0.0;
+    'steps: for step in 1..=steps {
+        let nominal = step as f64 / steps as f64;
+        let mut target = nominal;
+        let mut saved = State::of(model);
+        let mut halved = 0;
+        loop {
+            if steps > 1 || stats.cutbacks > 0 {
+                scale_loads(model, &full, target);
+            }
+            // Driven bodies, prescribed displacements and ramped loads along the path.
+            model.path.apply(&mut model.bodies, target);
+            model.gather();
+            monitor.load_increment(model, target, n)?;
+            match adr_increment(
+                model,
+                &density,
+                tolerance,
+                max_iterations,
+                n,
+                monitor,
+                &mut stats,
+            ) {
+                Ok(last) => n = last,
+                // A slave carried through its master by the increment's transient (the
+                // static equilibrium has no such miss): the increment starts again from the
+                // last equilibrium with half the load step, as the static solver's does.
+                Err(e) if may_cut && model.missed_contacts() > 0 => {
+                    if halved == MAX_CUTBACKS || stats.iterations >= max_iterations {
+                        return Err(cut_back_note(e, halved, done, target));
+                    }
+                    halved += 1;
+                    stats.cutbacks += 1;
+                    n = stats.iterations;
+                    target = done + 0.5 * (target - done);
+                    // ADR's first iteration sets the velocities from the forces afresh.
+                    saved.apply(model, None);
+                    monitor.cut_back(model, done, target, n)?;
+                    continue;
+                }
+                Err(e) => return Err(e),
+            }
+            // The next increment's friction starts from the stick points this one ended with.
+            model.commit_friction();
+            record_increment(model, target, n, &mut stats);
+            if !stats.converged || stats.interrupted {
+                break 'steps;
+            }
+            model.gather();
+            monitor.increment_done(model, target, n)?;
+            let size = target - done;
+            done = target;
+            if target == nominal {
+                break;
+            }
+            // The rest of the nominal increment, in steps twice as long as the last.
+            saved = State::of(model);
+            target = (done + 2.0 * size).min(nominal);
         }
-        // Driven bodies, prescribed displacements and ramped loads along the path.
-        model.path.apply(&mut model.bodies, scale);
-        model.gather();
-        monitor.load_increment(model, scale, n)?;
-        n = adr_increment(
-            model,
-            &density,
-            tolerance,
-            max_iterations,
-            n,
-            monitor,
-            &mut stats,
-        )?;
-        // The next increment's friction starts from the stick points this one ended with.
-        model.commit_friction();
-        record_increment(model, scale, n, &mut stats);
-        if !stats.converged || stats.interrupted {
-            break;
-        }
-        model.gather();
-        monitor.increment_done(model, scale, n)?;
     }
     model.gather();
     monitor.finish(model, n, n as f64)?;
     Ok(stats)
+}
+
+/// How many times one load increment is halved after a missed contact before ADR gives up.
+const MAX_CUTBACKS: usize = 4;
+
+/// The missed-contact error of an increment halved `halved` times, with what was tried.
+fn cut_back_note(e: Error, halved: usize, done: f64, target: f64) -> Error {
+    match e {
+        Error::Numerical(m) if halved > 0 => Error::numerical(format!(
+            "{m} (ADR started the increment again from the equilibrium at load factor {done:.4} with half the load step {halved} times, down to a step to {target:.4}, and lost a slave each time)"
+        )),
+        e => e,
+    }
 }
 
 /// One ADR relaxation from the current state to equilibrium under the current loads (Eqs.
@@ -472,11 +534,12 @@ pub(super) fn adr_increment(
                 Body::Rigid(_) => {}
             }
         }
+        // Counted before the check: an increment cut back on a miss goes on numbering from here.
+        stats.iterations = n;
         check_missed(model, n, "iteration", None)?;
         let r = sum.residual.sqrt();
         let rel = r / reference;
         stats.residual = rel;
-        stats.iterations = n;
         best = best.min(rel);
         if rel < tolerance {
             stats.converged = true;

@@ -23,6 +23,7 @@
 //! | velocity Verlet, the stable step, the energy balance | `explicit.rs` ([`explicit`], [`stable_time_step`]) |
 //! | ADR: a loaded body gone past everything it is in contact with | `unheld.rs` ([`Unheld`]) |
 //! | static: Newton-Raphson, conjugate gradients, line search, load cut-backs | `newton.rs` ([`newton`]) |
+//! | the state an increment starts from, saved and put back when it is cut back | `state.rs` |
 //! | static: the matrix-free tangent and its block-Jacobi preconditioner | `tangent.rs` |
 //! | static: the preconditioner's coarse space, the rigid modes of boxes of particles, and its matrix's inverse | `coarse/` |
 //! | the monitor, the statistics, the free-direction mask, the checks both share | this module |
@@ -36,6 +37,7 @@ mod krylov;
 mod newton;
 mod predict;
 mod springs;
+mod state;
 mod tangent;
 mod unheld;
 
@@ -69,6 +71,18 @@ pub trait Monitor {
     /// (`1/load_steps`, …, 1) and the last iteration of the increment before (0 before the
     /// first), in the state that increment ended in.
     fn load_increment(&mut self, _model: &Model, _factor: f64, _iteration: usize) -> Result<()> {
+        Ok(())
+    }
+    /// ADR: the increment that began with the last [`Monitor::load_increment`] lost a slave
+    /// at `iteration` and starts again from the equilibrium at load factor `done` towards
+    /// `target` (the next [`Monitor::load_increment`]).
+    fn cut_back(
+        &mut self,
+        _model: &Model,
+        _done: f64,
+        _target: f64,
+        _iteration: usize,
+    ) -> Result<()> {
         Ok(())
     }
     /// ADR and the static solver: called after each load increment that reached
@@ -141,7 +155,8 @@ pub struct RunStats {
     /// Static: ADR iterations taken where Newton stalled (from the state it stalled at).
     #[serde(skip_serializing_if = "is_zero")]
     pub relaxation_iterations: usize,
-    /// Static: load steps halved because an increment did not converge.
+    /// Static: load steps halved because an increment did not converge; ADR: because a slave
+    /// went through its master in an increment's transient.
     #[serde(skip_serializing_if = "is_zero")]
     pub cutbacks: usize,
     /// Static: equilibria found again at the same load after bonds broke at one.
@@ -336,7 +351,7 @@ fn penalty_not_the_cause(model: &Model) -> Option<String> {
     }
     let one_pass = missed.iter().any(|p| model.is_one_way_deformable(p));
     let what = if one_pass {
-        "with one pass only the slave's particles are kept out of the master's surface, not the master's out of the slave's, and ADR's transient can carry a master node into the slave: solve with kind = \"static\" (it converged on every one-pass pair measured), apply the load in steps (load_steps = 2 settled the one pair measured where ADR lost a slave at once), or set `two_pass = true` on the [[contact]]"
+        "with one pass only the slave's particles are kept out of the master's surface, not the master's out of the slave's, and ADR's transient can carry a master node into the slave: solve with kind = \"static\" (it converged on every one-pass pair measured), apply the load in more steps (load_steps), or set `two_pass = true` on the [[contact]]"
     } else {
         "the solver's transient carried it through before the contacts took the load: apply the load in steps (load_steps) or solve with kind = \"static\""
     };
