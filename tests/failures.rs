@@ -280,7 +280,7 @@ fn missed_contact_of_a_soft_penalty() {
         f.message.contains("missed contact at iteration")
             && f.message.contains("penalty is too soft")
             && f.message.contains("the deepest: node")
-            && f.message.contains("with half the load step 4 times"),
+            && f.message.contains("cut this load increment back 4 times"),
         "{}",
         f.message
     );

@@ -323,7 +323,7 @@ const MAX_CUTBACKS: usize = 4;
 fn cut_back_note(e: Error, halved: usize, done: f64, target: f64) -> Error {
     match e {
         Error::Numerical(m) if halved > 0 => Error::numerical(format!(
-            "{m} (ADR started the increment again from the equilibrium at load factor {done:.4} with half the load step {halved} times, down to a step to {target:.4}, and lost a slave each time)"
+            "{m} (ADR cut this load increment back {halved} times, each time to half the step that lost a slave; the last try went from the equilibrium at load factor {done:.4} towards {target:.4})"
         )),
         e => e,
     }
