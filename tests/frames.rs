@@ -60,30 +60,6 @@ fn run(name: &str, text: &str) -> PathBuf {
     dir.join("out")
 }
 
-/// The values of attribute `attr` of the elements `tag` in `xml`, in order.
-fn attributes(xml: &str, tag: &str, attr: &str) -> Vec<String> {
-    xml.split(&format!("<{tag} "))
-        .skip(1)
-        .filter_map(|e| {
-            let e = format!(" {}", e.split('>').next()?);
-            let v = e.split_once(&format!(" {attr}=\""))?.1;
-            Some(v.split('"').next()?.to_string())
-        })
-        .collect()
-}
-
-/// `.pvd` entries: (timestep, file).
-fn pvd(out: &Path) -> Vec<(f64, String)> {
-    let text = std::fs::read_to_string(out.join("run.pvd")).expect("run.pvd");
-    let t = attributes(&text, "DataSet", "timestep");
-    let f = attributes(&text, "DataSet", "file");
-    assert_eq!(t.len(), f.len());
-    t.iter()
-        .map(|t| t.parse().expect("number"))
-        .zip(f)
-        .collect()
-}
-
 /// A one-value field data array of a `.vtu`.
 fn field_value(vtu: &Path, name: &str) -> f64 {
     let text = std::fs::read_to_string(vtu).expect("vtu");
@@ -111,9 +87,9 @@ fn frame(out: &Path, vtm: &str) -> (Vec<String>, Vec<String>, Vec<String>) {
     let text = std::fs::read_to_string(out.join(vtm)).expect("vtm");
     assert!(text.contains("type=\"vtkMultiBlockDataSet\""), "{text}");
     (
-        attributes(&text, "Block", "name"),
-        attributes(&text, "DataSet", "name"),
-        attributes(&text, "DataSet", "file"),
+        common::attributes(&text, "Block", "name"),
+        common::attributes(&text, "DataSet", "name"),
+        common::attributes(&text, "DataSet", "file"),
     )
 }
 
@@ -122,7 +98,7 @@ fn frame(out: &Path, vtm: &str) -> (Vec<String>, Vec<String>, Vec<String>) {
 #[test]
 fn adr_frames_at_the_load_factors_with_named_blocks() {
     let out = run("adr", &scene("kind = \"adr\"\nload_steps = 3", 1_000_000));
-    let entries = pvd(&out);
+    let entries = common::pvd(&out);
     assert_eq!(entries.len(), 3, "{entries:?}");
     for (k, (t, vtm)) in entries.iter().enumerate() {
         let factor = (k + 1) as f64 / 3.0;
@@ -204,7 +180,7 @@ fn explicit_frames_at_their_times() {
         "explicit",
         &scene("kind = \"explicit\"\nend_time = 2e-3", 5),
     );
-    let entries = pvd(&out);
+    let entries = common::pvd(&out);
     assert!(entries.len() >= 2, "{entries:?}");
     assert!(entries.windows(2).all(|w| w[0].0 < w[1].0), "{entries:?}");
     for (t, vtm) in &entries {

@@ -4,6 +4,8 @@
 //! identical spheres is a = 0.3 m (METHOD.md §7: R* = R/2, E* = E/(2(1 − ν²))). Before the
 //! contact fixes of that section neither solver converged on such a pair.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use pdcontact::output::analysis::{contact_patch, elliptic_accuracy, hertz_sphere};
@@ -398,19 +400,9 @@ fn one_pass_adr_cuts_back_an_increment_that_loses_a_slave() {
         two_spheres_e_star(),
         0.5,
         |out| {
-            let pvd = std::fs::read_to_string(out.join("run.pvd")).expect("run.pvd");
-            for line in pvd.lines().filter(|l| l.contains("timestep=")) {
-                let field = |key: &str| {
-                    line.split(&format!("{key}=\""))
-                        .nth(1)
-                        .and_then(|t| t.split('"').next())
-                        .map(str::to_string)
-                        .unwrap_or_else(|| panic!("no {key} in {line}"))
-                };
-                let t: f64 = field("timestep").parse().expect("a timestep");
-                let file = field("file");
-                assert!(out.join(&file).is_file(), "{file} listed, not written");
-                frames.push((t, file));
+            frames = common::pvd(out);
+            for (_, file) in &frames {
+                assert!(out.join(file).is_file(), "{file} listed, not written");
             }
             let written = std::fs::read_dir(out)
                 .expect("the output folder")

@@ -180,3 +180,27 @@ pub fn validate_json(mesh: &Path, extra: &[&str], dir: &Path) -> serde_json::Val
     );
     serde_json::from_slice(&out.stdout).expect("JSON")
 }
+
+/// The values of attribute `attr` of the elements `tag` in `xml`, in order.
+pub fn attributes(xml: &str, tag: &str, attr: &str) -> Vec<String> {
+    xml.split(&format!("<{tag} "))
+        .skip(1)
+        .filter_map(|e| {
+            let e = format!(" {}", e.split('>').next()?);
+            let v = e.split_once(&format!(" {attr}=\""))?.1;
+            Some(v.split('"').next()?.to_string())
+        })
+        .collect()
+}
+
+/// `.pvd` entries: (timestep, file).
+pub fn pvd(out: &Path) -> Vec<(f64, String)> {
+    let text = std::fs::read_to_string(out.join("run.pvd")).expect("run.pvd");
+    let t = attributes(&text, "DataSet", "timestep");
+    let f = attributes(&text, "DataSet", "file");
+    assert_eq!(t.len(), f.len());
+    t.iter()
+        .map(|t| t.parse().expect("number"))
+        .zip(f)
+        .collect()
+}
