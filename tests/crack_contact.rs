@@ -45,15 +45,28 @@ fn a_compressed_through_crack_carries_the_load_across_its_faces() {
         .fragments(&cut.case.bonds);
     assert_eq!(fragments.len(), 2, "{fragments:?}");
 
-    // Stiffness: the rows beside the cut, corrected as surfaces, are a little stiff under a
-    // load across them, as a mesh face's rows are (measured: the top moves 2.3 % less).
+    // Stiffness: the top moves 0.95 % less than the whole block's (2.3 % less while the
+    // particles at the crack's mouth, on the block's free sides, took their outer face's
+    // area and the crack's together into their skin correction).
     let ratio = top_displacement(cut) / top_displacement(whole);
-    assert!((ratio - 1.0).abs() < 0.03, "compliance ratio {ratio}");
+    assert!((ratio - 1.0).abs() < 0.02, "compliance ratio {ratio}");
+
+    // Every face particle carries the load of its cell of the section (Δ², halved on each of
+    // the quarter's edges it lies on) within 10 % (measured 0.97-1.08; the rows along the
+    // free sides took 1.52 of their share while their skin correction had both faces' areas).
+    let cell = |c: f64| if c < 1e-9 || c > 0.5 - 1e-9 { 0.5 } else { 1.0 };
+    for side in &faces.particles {
+        for &i in side {
+            let (i, x) = (i as usize, cut.reference[i as usize]);
+            let share = cut.contact_force[i].z.abs() / (1e6 * 0.05 * 0.05 * cell(x.x) * cell(x.y));
+            assert!((share - 1.0).abs() < 0.1, "{share} of its share at {x:?}");
+        }
+    }
 
     // The faces carry the applied 1 MPa: on each face, away from the block's free sides
-    // (x, y < 0.4 m; the rows along a free side take more than their share) and off its
-    // symmetry planes, each particle's contact pressure within 5 % of it (measured
-    // 0.956-0.985 MPa, mean 0.972), the mean within 3 %.
+    // (x, y < 0.4 m) and off its symmetry planes, each particle's contact pressure within 4 %
+    // of it (measured 0.964-1.004 MPa, mean 0.983; 0.956-0.985, mean 0.972, before the
+    // crack's mouth took the crack's area alone), the mean within 2 %.
     for side in &faces.particles {
         let mut total = 0.0;
         let mut count = 0;
@@ -61,13 +74,13 @@ fn a_compressed_through_crack_carries_the_load_across_its_faces() {
             let (i, x) = (i as usize, cut.reference[i as usize]);
             if (0.01..0.4).contains(&x.x) && (0.01..0.4).contains(&x.y) {
                 let p = cut.pressure_force(i) / cut.case.segments.pressure_area[i];
-                assert!((p / 1e6 - 1.0).abs() < 0.05, "pressure {p} at {x:?}");
+                assert!((p / 1e6 - 1.0).abs() < 0.04, "pressure {p} at {x:?}");
                 total += p;
                 count += 1;
             }
         }
         let mean = total / count as f64;
-        assert!((mean / 1e6 - 1.0).abs() < 0.03, "mean pressure {mean}");
+        assert!((mean / 1e6 - 1.0).abs() < 0.02, "mean pressure {mean}");
     }
 
     // Neither face goes into the other by more than a tenth of a spacing (measured 1.6 µm,
@@ -237,8 +250,9 @@ fn a_through_crack_in_a_gmsh_tet_bar_closes_on_the_faces_found_again() {
             .collect();
         set.iter().map(|&i| pd.u[i].x).sum::<f64>() / set.len() as f64
     };
-    // Measured 0.75 % more compliant than the whole bar (the pre-crack's own faces 0.4 %;
-    // 2.7 % while each slave was moved onto the segment nearest by the gap alone, not the one
+    // Measured 1.33 % more compliant than the whole bar (the pre-crack's own faces 1.09 %;
+    // 0.75 % while the particles at the crack's mouth summed their outer face's area and the
+    // crack's; 2.7 % while each slave was moved onto the segment nearest by the gap alone, not the one
     // it projects into; 3.7 % while the faces found again had no skin correction and the
     // slaves on the symmetry plane were moved by another projection than the contact's).
     let ratio = end(cut) / end(whole);
@@ -269,7 +283,9 @@ fn a_through_crack_in_a_gmsh_tet_bar_closes() {
         intact.bodies[0].as_pd().expect("deformable"),
         cracked.bodies[0].as_pd().expect("deformable"),
     );
-    // Measured: the end moves 1.1 % less than the intact bar's.
+    // Measured: the end moves 1.09 % more than the intact bar's (0.44 % while the particles
+    // at the crack's mouth summed their outer face's area and the crack's: over-stiff there,
+    // they drew more than their share of the load, and ADR took 3,535 iterations, now 662).
     let ratio = end(cut) / end(whole);
     assert!((ratio - 1.0).abs() < 0.02, "compliance ratio {ratio}");
     // Each face carries the whole load across (6.4e5 N), into the other by under a tenth of
@@ -285,11 +301,12 @@ fn a_through_crack_in_a_gmsh_tet_bar_closes() {
         .flat_map(|p| p.contacts.iter().map(|c| c.penetration))
         .fold(0.0, f64::max);
     assert!(deepest < 0.1 * cut.spacing(), "deepest {deepest}");
-    // Away from the bar's free sides (y, z in 0.01-0.7 m) the faces read 0.97 of the applied
-    // 1 MPa per unit of their pressure area (measured 0.968-0.969 on the two faces; 0.85
-    // while the areas were the tilted triangles' between particles at different depths), and
-    // the force across the square y, z in 0.2-0.6 m is the applied stress on its area within
-    // 2 % (measured 0.993 and 1.004).
+    // Away from the bar's free sides (y, z in 0.01-0.7 m) the faces read the applied 1 MPa
+    // per unit of their pressure area within 2 % (measured 0.9801 and 0.9807 on the two
+    // faces; 0.968-0.969 while the particles at the crack's mouth summed their outer face's
+    // area and the crack's, 0.85 while the areas were the tilted triangles' between particles
+    // at different depths), and the force across the square y, z in 0.2-0.6 m is the applied
+    // stress on its area within 2 % (measured 0.998 and 1.010).
     for side in &faces.particles {
         let (mut f, mut a, mut square) = (0.0, 0.0, 0.0);
         for &i in side {
@@ -303,7 +320,7 @@ fn a_through_crack_in_a_gmsh_tet_bar_closes() {
             }
         }
         let p = f / a / 1e6;
-        assert!((0.95..1.0).contains(&p), "interior pressure {p}");
+        assert!((p - 1.0).abs() < 0.02, "interior pressure {p}");
         let square = square / 0.16 / 1e6;
         assert!((square - 1.0).abs() < 0.02, "force on the square {square}");
     }

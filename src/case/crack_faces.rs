@@ -177,9 +177,10 @@ impl PdCase {
         }
         self.bonds = self.bonds.without(&removed);
         self.correction = self.correction_over(&self.bonds, &position, method);
+        let mut outer = self.surface.is_surface.clone();
         for (&(k, patch), lost) in patches.iter().zip(&lost_of) {
             out.faces
-                .push(open_faces(self, k, &patch, lost).map_err(|m| (k, m))?);
+                .push(open_faces(self, k, &patch, lost, &mut outer).map_err(|m| (k, m))?);
         }
         if skin {
             let partner_volume = self.ghosts.partner_volumes(&self.particles.volume);
@@ -298,12 +299,15 @@ impl CrackFaces {
 
 /// Finds the faces `patch` opened in `case` (`lost`: the particles that lost a bond to it),
 /// appends their segments to the case's master segments, and makes the face particles
-/// surface particles with the crack's normal. Errors say what is missing.
+/// surface particles with the crack's normal. `outer`: the particles whose areas are still
+/// their outer faces' (cleared where this crack's faces take them over). Errors say what is
+/// missing.
 pub fn open_faces(
     case: &mut PdCase,
     precrack: usize,
     patch: &CrackPatch,
     lost: &[bool],
+    outer: &mut [bool],
 ) -> Result<CrackFaces, String> {
     let n = case.particles.len();
     let spacing = case.particles.spacing;
@@ -434,6 +438,15 @@ pub fn open_faces(
             area.iter_mut().for_each(|a| *a *= planar / total);
         }
         for (&i, &a) in list.iter().zip(&area) {
+            // A particle on the body's outer boundary as well (the crack's mouth) takes the
+            // crack face's areas in place of its outer face's: summed, they made its skin
+            // correction carry both faces' tractions along the one normal between them, and
+            // the rows at the mouth drew half as much again as their share of the load across
+            // the crack (docs/FRACTURE.md, "The crack's mouth").
+            if std::mem::take(&mut outer[i as usize]) {
+                case.segments.pressure_area[i as usize] = 0.0;
+                case.segments.tributary_area[i as usize] = 0.0;
+            }
             case.segments.pressure_area[i as usize] += a;
             // Its reactions are its own: the opposite face's slaves land on its segments
             // wherever the two faces' particles happen to lie, not by its triangles' thirds.
