@@ -290,3 +290,64 @@ radius = 100.0
     assert!((ps / pa - 1.0).abs() < 1e-3, "peak static {ps} adr {pa}");
     assert!(newton.force_balance_error < 1e-3);
 }
+
+/// A body with nothing in contact (the stored gmsh tet4 bar, an eighth of 3.2 × 1.6 × 1.6 m
+/// with three symmetry planes, pulled by 1 MPa on its end): the coarse space has no springs
+/// to add to its bonds' part, and the static solver takes the bonds' factor alone (it
+/// panicked on nalgebra's solve of the empty update before). Its end moves as ADR's and as
+/// `σ L / E` says.
+#[test]
+fn the_static_solver_takes_a_body_with_nothing_in_contact() {
+    let text = |kind: &str| {
+        format!(
+            r#"[solver]
+kind = "{kind}"
+tolerance = 1e-8
+[[body]]
+name = "bar"
+mesh = "{}"
+kinematics = "small"
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[load]]
+body = "bar"
+set = "end"
+force = [6.4e5, 0.0, 0.0]
+[[symmetry]]
+body = "bar"
+axis = "x"
+[[symmetry]]
+body = "bar"
+axis = "y"
+[[symmetry]]
+body = "bar"
+axis = "z"
+"#,
+            mesh("meshes/bar_tet4_h005.msh")
+        )
+    };
+    let dir = temp_dir("no-contact");
+    let end = |kind: &str| {
+        let scene = Scene::parse(&text(kind), "scene.toml", &dir).expect("scene");
+        let (model, summary) = run_scene(&scene, &quiet(&dir.join(kind))).expect("runs");
+        assert!(summary.converged, "{kind}: {summary:?}");
+        let pd = model.bodies[0].as_pd().expect("deformable");
+        let at: Vec<usize> = (0..pd.len())
+            .filter(|&i| (pd.reference[i].x - 1.6).abs() < 1e-9)
+            .collect();
+        let u = at.iter().map(|&i| pd.u[i].x).sum::<f64>() / at.len() as f64;
+        (u, summary.solver.iterations)
+    };
+    let (adr, _) = end("adr");
+    let (newton, iterations) = end("static");
+    eprintln!("end: ADR {adr:e}, static {newton:e} in {iterations} Newton iterations");
+    assert!(
+        (newton / adr - 1.0).abs() < 1e-4,
+        "static {newton} ADR {adr}"
+    );
+    assert!(iterations <= 10, "{iterations} Newton iterations");
+    // σ L / E = 1.6 mm.
+    assert!((newton / 1.6e-3 - 1.0).abs() < 0.03, "end {newton}");
+}

@@ -144,6 +144,11 @@ impl CoarseFactor {
             CoarseFactor::Updated { rows, z, d, small } => {
                 let base = base.expect("an updated coarse factor comes with its base");
                 let mut y = base.factor.solve(v);
+                // No springs (a scene without contact): `B` alone; nalgebra's LU of the
+                // empty `I + D Eᵀ Z` panics on a solve.
+                if rows.is_empty() {
+                    return y;
+                }
                 let dy = d * DVector::from_iterator(rows.len(), rows.iter().map(|&r| y[r]));
                 let s = small.solve(&dy).expect("checked invertible");
                 y -= z * s;
