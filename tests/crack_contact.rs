@@ -54,7 +54,13 @@ fn a_compressed_through_crack_carries_the_load_across_its_faces() {
     // Every face particle carries the load of its cell of the section (Δ², halved on each of
     // the quarter's edges it lies on) within 10 % (measured 0.97-1.08; the rows along the
     // free sides took 1.52 of their share while their skin correction had both faces' areas).
-    let cell = |c: f64| if c < 1e-9 || c > 0.5 - 1e-9 { 0.5 } else { 1.0 };
+    let cell = |c: f64| {
+        if (1e-9..=0.5 - 1e-9).contains(&c) {
+            1.0
+        } else {
+            0.5
+        }
+    };
     for side in &faces.particles {
         for &i in side {
             let (i, x) = (i as usize, cut.reference[i as usize]);
