@@ -1,6 +1,8 @@
 //! The static solver (`[solver] kind = "static"`, Newton-Raphson with a matrix-free tangent)
 //! against ADR on the same scenes, and against Hertz.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use pdcontact::run::{run_scene, RunOptions, RunSummary};
@@ -298,36 +300,7 @@ radius = 100.0
 /// `σ L / E` says.
 #[test]
 fn the_static_solver_takes_a_body_with_nothing_in_contact() {
-    let text = |kind: &str| {
-        format!(
-            r#"[solver]
-kind = "{kind}"
-tolerance = 1e-8
-[[body]]
-name = "bar"
-mesh = "{}"
-kinematics = "small"
-[body.material]
-youngs_modulus = 1e9
-poisson_ratio = 0.25
-density = 1000.0
-[[load]]
-body = "bar"
-set = "end"
-force = [6.4e5, 0.0, 0.0]
-[[symmetry]]
-body = "bar"
-axis = "x"
-[[symmetry]]
-body = "bar"
-axis = "y"
-[[symmetry]]
-body = "bar"
-axis = "z"
-"#,
-            mesh("meshes/bar_tet4_h005.msh")
-        )
-    };
+    let text = |kind: &str| common::bar_scene("bond-based", 0.25, kind, "small", true, 1e6);
     let dir = temp_dir("no-contact");
     let end = |kind: &str| {
         let scene = Scene::parse(&text(kind), "scene.toml", &dir).expect("scene");
