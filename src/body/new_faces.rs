@@ -18,8 +18,9 @@
 //!   of `i`'s: the face's particles about it.
 //! - **Its triangles.** They are projected on `i`'s tangent plane and triangulated there
 //!   (Delaunay); the triangles with `i` as a corner, none of their edges longer than
-//!   [`LONGEST_EDGE`] spacings (the pre-crack's rule), wound outward along `i`'s normal, are
-//!   its segments. A triangle found from several of its corners is kept once.
+//!   [`LONGEST_EDGE`] spacings, wound outward along `i`'s normal, are its segments (a face
+//!   that is a graph over one plane is triangulated there whole, its outline's slivers
+//!   peeled off as a pre-crack's are, [`face_triangles`]). A triangle found from several of its corners is kept once.
 //!
 //! Where the faces are flat the umbrellas tile them as a triangulation of the plane would
 //! (on a lattice, the two triangles of each square); where a crack turns, the umbrellas of
@@ -33,7 +34,7 @@ use rayon::prelude::*;
 
 use crate::body::new_surface::Found;
 use crate::body::PdBody;
-use crate::case::crack_faces::LONGEST_EDGE;
+use crate::case::crack_faces::{face_triangles, LONGEST_EDGE};
 use crate::case::segments::{quad_area_normal, MasterSegment};
 use crate::case::surface::{OCCLUSION_RADIUS, SURFACE_LAMBDA};
 use crate::math::Vec3;
@@ -140,7 +141,7 @@ pub fn new_faces(pd: &PdBody, found: Option<&Found>) -> NewFaces {
         match patch_plane(members, &normal, x) {
             // A face that is a graph over its plane: triangulated there as a whole, as a
             // pre-crack's faces are, one surface without overlaps.
-            Some(m) => triangles.extend(planar(members, m, x, longest)),
+            Some(m) => triangles.extend(planar(members, m, x, spacing)),
             // One that turns too far: each particle's umbrella.
             None => triangles.extend(members.iter().flat_map(|&i| {
                 let mut face = vec![i];
@@ -203,25 +204,35 @@ fn patch_plane(members: &[u32], normal: &[Vec3], x: &[Vec3]) -> Option<Vec3> {
 }
 
 /// The Delaunay triangulation of a face's particles projected on the plane normal to `m`,
-/// wound along `m`, none with an edge longer than `longest`.
-fn planar(members: &[u32], m: Vec3, x: &[Vec3], longest: f64) -> Vec<[u32; 3]> {
-    triangulate_on(members, m, x, longest, |_| true)
+/// wound along `m`, the slivers of its outline and the triangles across its holes left out
+/// as on a pre-crack's face ([`face_triangles`]).
+fn planar(members: &[u32], m: Vec3, x: &[Vec3], spacing: f64) -> Vec<[u32; 3]> {
+    triangulate_on(members, m, x, Edges::Face(spacing), |_| true)
+}
+
+/// Which triangles [`triangulate_on`] leaves out by their edges.
+#[derive(Clone, Copy)]
+enum Edges {
+    /// Those with an edge longer than this.
+    Longer(f64),
+    /// A whole face's, by [`face_triangles`] at this spacing.
+    Face(f64),
 }
 
 /// The triangles about `face[0]` of the Delaunay triangulation of `face` projected on the
 /// plane normal to `n`, wound outward along `n`, none with an edge longer than `longest`.
 fn umbrella(face: &[u32], n: Vec3, x: &[Vec3], longest: f64) -> Vec<[u32; 3]> {
-    triangulate_on(face, n, x, longest, |t| t.contains(&0))
+    triangulate_on(face, n, x, Edges::Longer(longest), |t| t.contains(&0))
 }
 
 /// The triangles of the Delaunay triangulation of `points` projected on the plane normal to
-/// `n` that `keep` keeps (by their indices into `points`), wound along `n`, none with an edge
-/// longer than `longest`.
+/// `n` that `keep` keeps (by their indices into `points`) and `edges` does not leave out,
+/// wound along `n`.
 fn triangulate_on(
     points: &[u32],
     n: Vec3,
     x: &[Vec3],
-    longest: f64,
+    edges: Edges,
     keep: impl Fn(&[usize]) -> bool,
 ) -> Vec<[u32; 3]> {
     if points.len() < 3 {
@@ -244,11 +255,20 @@ fn triangulate_on(
         })
         .collect();
     let triangulation = delaunator::triangulate(&plane);
+    let length = |a: usize, b: usize| (x[points[a] as usize] - x[points[b] as usize]).norm();
+    let (face, longest) = match edges {
+        Edges::Face(spacing) => (
+            Some(face_triangles(&triangulation, length, spacing)),
+            f64::INFINITY,
+        ),
+        Edges::Longer(longest) => (None, longest),
+    };
     triangulation
         .triangles
         .chunks_exact(3)
-        .filter(|t| keep(t))
-        .filter_map(|t| {
+        .enumerate()
+        .filter(|(k, t)| keep(t) && face.as_ref().is_none_or(|f| f[*k]))
+        .filter_map(|(_, t)| {
             let mut nodes = [points[t[0]], points[t[1]], points[t[2]]];
             let c = nodes.map(|p| x[p as usize]);
             let edge = (0..3)

@@ -10,8 +10,9 @@
 //!   surface's, `case::surface`). On a lattice that is the row next to the crack.
 //! * **Master segments**: the face particles' projections on the crack plane, triangulated
 //!   (Delaunay: the triangulation of a point set that has the fewest slivers), wound outward
-//!   (away from the side's own material); triangles longer than [`LONGEST_EDGE`] spacings on
-//!   an edge are the hull's slivers across a gap and are left out.
+//!   (away from the side's own material); the hull's slivers across a concave stretch of the
+//!   outline (an exposed edge over [`LONGEST_EDGE`] spacings) are peeled off, and triangles
+//!   across a hole left out ([`face_triangles`]).
 //! * **Areas**: each face particle's cell of the face (its mixed Voronoi area in the
 //!   triangulation), shared out again by volume over the particles within two spacings, as a
 //!   body takes a contact's load ([`crate::case::segments::pressure_areas`]): the pressure area
@@ -268,9 +269,75 @@ impl PdCase {
     }
 }
 
-/// Triangles with an edge longer than this many particle spacings are left out of a face
-/// (the Delaunay hull bridges concave stretches of a face's outline with long slivers).
+/// Triangles with an edge longer than this many particle spacings on a face's outline are
+/// left out of it (the Delaunay hull bridges concave stretches of a face's outline with long
+/// slivers): see [`face_triangles`].
 pub const LONGEST_EDGE: f64 = 2.5;
+
+/// A triangle with an edge longer than this many particle spacings anywhere in a face spans
+/// a hole in it (a crack across a tube) and is left out: see [`face_triangles`].
+pub const HOLE_EDGE: f64 = 2.0 * LONGEST_EDGE;
+
+/// Which triangles of a face's Delaunay triangulation `tri` make the face. The hull's
+/// triangles are peeled off one after another while an exposed edge (on the hull, or against
+/// a triangle already peeled) is longer than [`LONGEST_EDGE`] spacings: the slivers across a
+/// concave stretch of the outline; a triangle with any edge over [`HOLE_EDGE`] spacings
+/// spans a hole and goes, its neighbours peeled from it likewise. The triangles within the
+/// face stay whatever their size: where a face's particles lie sparser than the body's
+/// spacing (the gmsh tets split into hexes, whose spacing the many small cells of the split
+/// set) its triangles run to three spacings, and leaving those out left holes of a tenth of
+/// the face (docs/FRACTURE.md, "The face's holes"). `length(a, b)`: the edge between points
+/// `a` and `b`. Sequential, in the triangulation's order: the same on any thread count.
+pub fn face_triangles(
+    tri: &delaunator::Triangulation,
+    length: impl Fn(usize, usize) -> f64,
+    spacing: f64,
+) -> Vec<bool> {
+    let count = tri.triangles.len() / 3;
+    let mut kept = vec![true; count];
+    let edge = |e: usize| {
+        length(
+            tri.triangles[e],
+            tri.triangles[delaunator::next_halfedge(e)],
+        )
+    };
+    let mut stack: Vec<usize> = Vec::new();
+    for (t, k) in kept.iter_mut().enumerate() {
+        if (3 * t..3 * t + 3).any(|e| edge(e) > HOLE_EDGE * spacing) {
+            *k = false;
+            stack.extend(
+                (3 * t..3 * t + 3)
+                    .map(|e| tri.halfedges[e])
+                    .filter(|&h| h != delaunator::EMPTY)
+                    .map(|h| h / 3),
+            );
+        }
+    }
+    stack.extend(
+        (0..tri.halfedges.len())
+            .filter(|&e| tri.halfedges[e] == delaunator::EMPTY)
+            .map(|e| e / 3),
+    );
+    while let Some(t) = stack.pop() {
+        if !kept[t] {
+            continue;
+        }
+        let exposed_long = (3 * t..3 * t + 3).any(|e| {
+            let h = tri.halfedges[e];
+            (h == delaunator::EMPTY || !kept[h / 3]) && edge(e) > LONGEST_EDGE * spacing
+        });
+        if exposed_long {
+            kept[t] = false;
+            stack.extend(
+                (3 * t..3 * t + 3)
+                    .map(|e| tri.halfedges[e])
+                    .filter(|&h| h != delaunator::EMPTY)
+                    .map(|h| h / 3),
+            );
+        }
+    }
+    kept
+}
 
 /// The faces of one pre-crack: side 0 lies behind the patch's normal (its outward normal is
 /// the patch's `+n`), side 1 in front of it (outward `−n`).
@@ -367,16 +434,20 @@ pub fn open_faces(
             })
             .collect();
         let triangulation = delaunator::triangulate(&plane);
+        let kept = face_triangles(
+            &triangulation,
+            |a, b| (x[list[a] as usize] - x[list[b] as usize]).norm(),
+            spacing,
+        );
         let mut cell = vec![0.0; list.len()];
-        for t in triangulation.triangles.chunks_exact(3) {
+        for (t, _) in triangulation
+            .triangles
+            .chunks_exact(3)
+            .zip(&kept)
+            .filter(|(_, &k)| k)
+        {
             let mut nodes = [list[t[0]], list[t[1]], list[t[2]], list[t[2]]];
             let corners = nodes.map(|p| x[p as usize]);
-            let longest = (0..3)
-                .map(|a| (corners[a] - corners[(a + 1) % 3]).norm())
-                .fold(0.0, f64::max);
-            if longest > LONGEST_EDGE * spacing {
-                continue;
-            }
             let (area, mut normal) = quad_area_normal(corners);
             if area <= 0.0 {
                 continue;
@@ -475,4 +546,68 @@ pub fn open_faces(
         segment_side,
         first_segment,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::face_triangles;
+    use delaunator::{triangulate, Point};
+
+    /// The area of the triangles `face_triangles` keeps of the points' Delaunay triangulation.
+    fn kept_area(points: &[Point], spacing: f64) -> f64 {
+        let tri = triangulate(points);
+        let length = |a: usize, b: usize| {
+            let (p, q) = (&points[a], &points[b]);
+            (p.x - q.x).hypot(p.y - q.y)
+        };
+        let kept = face_triangles(&tri, length, spacing);
+        tri.triangles
+            .chunks_exact(3)
+            .zip(&kept)
+            .filter(|(_, &k)| k)
+            .map(|(t, _)| {
+                let (a, b, c) = (&points[t[0]], &points[t[1]], &points[t[2]]);
+                0.5 * ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y)).abs()
+            })
+            .sum()
+    }
+
+    fn grid(n: usize, keep: impl Fn(usize, usize) -> bool) -> Vec<Point> {
+        let mut points = Vec::new();
+        for i in 0..=n {
+            for j in 0..=n {
+                if keep(i, j) {
+                    // A small shear keeps the lattice's squares from being cocircular.
+                    let (x, y) = (i as f64, j as f64);
+                    points.push(Point {
+                        x: x + 0.013 * y,
+                        y,
+                    });
+                }
+            }
+        }
+        points
+    }
+
+    #[test]
+    fn the_outline_of_a_concave_face_is_peeled_and_its_inside_kept() {
+        // An L of unit spacing, 12 × 12 less its 8 × 8 corner: the hull bridges the notch.
+        let l = grid(12, |i, j| i <= 4 || j <= 4);
+        // A re-entrant corner keeps the short triangles across it (edges under 2.5
+        // spacings), a spacing squared or so; the rest of the notch goes.
+        let area = kept_area(&l, 1.0);
+        assert!((80.0..=81.5).contains(&area), "L: {area}");
+        // The same square with a sparse stretch inside (points 3 spacings apart over
+        // 4 ≤ i, j ≤ 10): triangles of 3 spacings on a side inside the face stay.
+        let sparse = grid(12, |i, j| {
+            !(4..=10).contains(&i) || !(4..=10).contains(&j) || (i % 3 == 1 && j % 3 == 1)
+        });
+        let area = kept_area(&sparse, 1.0);
+        assert!((area - 144.0).abs() < 1e-9, "sparse: {area}");
+        // A square hole of 8 spacings (a crack across a tube) is left out.
+        let hole = grid(12, |i, j| !(3..=9).contains(&i) || !(3..=9).contains(&j));
+        let area = kept_area(&hole, 1.0);
+        // Its four corners keep a spacing squared each, as the L's.
+        assert!((80.0..=86.0).contains(&area), "hole: {area}");
+    }
 }
