@@ -27,6 +27,7 @@ fn coarse() -> NotchedBeam {
         mesh: None,
         static_solver: false,
         lps_poisson: None,
+        failure: Default::default(),
     }
 }
 
@@ -300,4 +301,118 @@ fn a_crushed_slave_is_named_as_the_cause_of_a_missed_contact() {
         "{err}"
     );
     assert!(!err.contains("impact speed is too high"), "{err}");
+}
+
+/// The bonds of the elastic state of `scene` that pass the critical stretch `s0`, by the
+/// stretch alone and with `failure = "tension"` ([`pdcontact::body::PdBody::spare_compressed`]):
+/// `(i, partner, stretch)` each, the body's reference positions with them.
+type Failing = Vec<(usize, usize, f64)>;
+fn failing_both_ways(
+    scene: &str,
+    name: &str,
+    s0: f64,
+) -> (Failing, Failing, Vec<pdcontact::math::Vec3>, f64) {
+    let (mut model, summary) = run_text(scene, name);
+    let pd = model.bodies[0].as_pd_mut().expect("deformable");
+    pd.enable_fracture(Some(s0));
+    let mut pos = Vec::new();
+    pd.extended_positions(&mut pos);
+    let all = pd.fracture.as_ref().expect("enabled").failing(
+        &pd.case.bonds,
+        &pos,
+        &pd.reference,
+        pd.owned.clone(),
+    );
+    let listed = |v: &[(u32, u32)]| -> Failing {
+        v.iter()
+            .map(|&(i, b)| {
+                let (i, b) = (i as usize, b as usize);
+                let j = pd.case.bonds.partner[b] as usize;
+                let xi = pd.reference[j] - pd.reference[i];
+                let stretch = (pos[j] - pos[i] - xi).dot(&xi) / xi.norm_squared();
+                (i, j, stretch)
+            })
+            .collect()
+    };
+    let by_stretch = listed(&all);
+    pd.fracture.as_mut().expect("enabled").criterion = pdcontact::scene::FailureCriterion::Tension;
+    let by_tension = listed(&pd.spare_compressed(all, &pos));
+    (by_stretch, by_tension, pos, summary.contact_radius)
+}
+
+/// A cube pressed or pulled along z by its top face (bottom held along z, symmetry planes
+/// x = 0 and y = 0, so free to spread), small kinematics, the static solver.
+fn cube(top: f64) -> String {
+    format!(
+        "[solver]\nkind = \"static\"\n\n\
+         [[body]]\nname = \"cube\"\n\
+         generator = {{ shape = \"box\", min = [0, 0, 0], max = [1, 1, 1], spacing = 0.1 }}\n\
+         kinematics = \"small\"\n\
+         material = {{ youngs_modulus = 1e9, poisson_ratio = 0.25, density = 1000 }}\n\n\
+         [[constraint]]\nbody = \"cube\"\nset = \"bottom\"\nfix = [\"z\"]\n\n\
+         [[constraint]]\nbody = \"cube\"\nset = \"top\"\nfix = [\"z\"]\ndisplacement = [0, 0, {top}]\n\n\
+         [[symmetry]]\nbody = \"cube\"\naxis = \"x\"\n\n[[symmetry]]\nbody = \"cube\"\naxis = \"y\"\n"
+    )
+}
+
+/// `failure = "tension"` against the stretch alone, on the two states that tell them apart.
+/// Pressed by 1 % along z, the cube spreads by ν ε = 0.25 % across: past s0 = 0.2 % its
+/// bonds across z fail by the stretch, and none by tension (the stress along them is nil).
+/// Pulled by 1 % with s0 = 0.9 %, the bonds that fail lie within 17° of the pull, along the
+/// tension: the same bonds fail either way.
+#[test]
+fn tension_spares_the_bonds_that_poissons_effect_stretched() {
+    let (stretch, tension, _, _) = failing_both_ways(&cube(-0.01), "cube-pressed", 0.002);
+    assert!(stretch.len() > 100, "{} bonds", stretch.len());
+    assert!(
+        tension.is_empty(),
+        "{} bonds failed by tension",
+        tension.len()
+    );
+    let (stretch, tension, _, _) = failing_both_ways(&cube(0.01), "cube-pulled", 0.009);
+    assert!(stretch.len() > 100, "{} bonds", stretch.len());
+    let key = |v: &Failing| v.iter().map(|&(i, j, _)| (i, j)).collect::<Vec<_>>();
+    assert_eq!(key(&stretch), key(&tension));
+}
+
+/// Hertzian indentation (docs/FRACTURE.md, "Not done yet"): a rigid sphere (R = 10 mm)
+/// driven 0.24 mm into a quarter glass block 5 × 5 × 4 mm (Δ = 0.2 mm, m = 2), elastic.
+/// The most stretched bond lies below the contact, in Hertz's shear zone, where all three
+/// principal stresses are compressive: the stretch alone fails it first, which no brittle
+/// solid does. With `failure = "tension"` the first is on the surface outside the contact,
+/// where the radial tension of the ring crack peaks (measured: 1.31a of the fitted contact
+/// radius at this spacing, 1.03-1.13a at Δ = 0.1 mm).
+#[test]
+fn tension_fails_a_hertz_contact_first_outside_its_edge() {
+    let scene = "[solver]\nkind = \"static\"\nload_steps = 6\n\n\
+        [[body]]\nname = \"block\"\n\
+        generator = { shape = \"box\", min = [0.0, 0.0, -0.004], max = [0.005, 0.005, 0.0], spacing = 0.0002 }\n\
+        horizon_factor = 2.0\nkinematics = \"small\"\n\
+        material = { youngs_modulus = 70e9, poisson_ratio = 0.25, density = 2500 }\n\n\
+        [[body]]\nname = \"ball\"\nkind = \"rigid\"\n\
+        generator = { shape = \"sphere_cap\", radius = 0.01, half_width = 0.004, depth = 0.0015, spacing = 0.0001, center = [0.0, 0.0, 0.01] }\n\
+        motion = \"displacement\"\ndisplacement = [0.0, 0.0, -0.00024]\n\n\
+        [[contact]]\nslave = \"block\"\nmaster = \"ball\"\n\n\
+        [[constraint]]\nbody = \"block\"\nset = \"bottom\"\nfix = [\"z\"]\n\n\
+        [[symmetry]]\nbody = \"block\"\naxis = \"x\"\n\n[[symmetry]]\nbody = \"block\"\naxis = \"y\"\n";
+    let (stretch, tension, pos, a) = failing_both_ways(scene, "hertz", 1e-4);
+    let first = |v: &Failing| {
+        let &(i, j, s) = v
+            .iter()
+            .max_by(|p, q| p.2.total_cmp(&q.2))
+            .expect("bonds past s0");
+        let mid = 0.5 * (pos[i] + pos[j]);
+        (mid.x.hypot(mid.y), -mid.z, s)
+    };
+    let dx = 0.0002;
+    let (r, depth, s) = first(&stretch);
+    assert!(
+        depth > 2.0 * dx && r < a,
+        "by the stretch: r = {r}, depth {depth} (a = {a}), s = {s}"
+    );
+    let (r, depth, s) = first(&tension);
+    assert!(
+        depth < 0.5 * dx && r > a && r < 1.4 * a,
+        "by tension: r = {r}, depth {depth} (a = {a}), s = {s}"
+    );
 }

@@ -487,6 +487,7 @@ fn beam_on_three_ranks(name: &str, lps_poisson: Option<f64>) {
         mesh: None,
         static_solver: false,
         lps_poisson,
+        failure: Default::default(),
     };
     let path = dir.join("beam.toml");
     std::fs::write(&path, beam.scene(".")).expect("written");

@@ -608,6 +608,16 @@ fn fracture_errors() {
         "density = 1000.0\nfracture_energy = -1.0",
     );
     assert_error("negative-g0", &text, "fracture_energy", &["positive", "-1"]);
+    let text = GOOD.replace(
+        "density = 1000.0",
+        "density = 1000.0\nfailure = \"tension\"",
+    );
+    assert_error(
+        "failure-alone",
+        &text,
+        "failure",
+        &["fracture_energy or critical_stretch"],
+    );
     let crack = |point: &str, normal: &str| {
         format!(
             "{GOOD}\n[[precrack]]\nbody = \"block\"\npoint = {point}\nnormal = {normal}\nalong = [0.0, 1.0, 0.0]\nsize = [0.5, 2.0]\n"

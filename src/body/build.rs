@@ -513,6 +513,9 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
             };
             if s0.is_some() || !precracks.is_empty() {
                 body.enable_fracture(s0);
+                if let Some(f) = &mut body.fracture {
+                    f.criterion = m.failure.unwrap_or_default();
+                }
             }
             match cut {
                 Some(cut) => {

@@ -28,6 +28,7 @@ use crate::case::neighbours::BondList;
 use crate::case::pairs::PairList;
 use crate::case::PdCase;
 use crate::math::Vec3;
+pub use crate::scene::FailureCriterion;
 use crate::scene::Kinematics;
 
 /// Particles per work item of the failure test.
@@ -56,6 +57,9 @@ pub fn critical_stretch_lps(fracture_energy: f64, youngs: f64, poisson: f64, hor
 pub struct Fracture {
     /// `s0` at the body's horizon δ; `None`: bonds do not fail (a body with pre-cracks only).
     pub critical_stretch: Option<f64>,
+    /// What fails a bond past `s0` ([`FailureCriterion`]; the body applies it,
+    /// [`crate::body::PdBody::spare_compressed`]).
+    pub criterion: FailureCriterion,
     /// Per directed bond: the bound the pass tests, from the critical stretch `s0` at the
     /// bond's own horizon: `((1 + s0) L)²` against `|y|²` (finite kinematics, no square root
     /// per bond) or `s0 L²` against `η·ξ` (linearised); infinite where the bond is broken or
@@ -117,6 +121,7 @@ impl Fracture {
         }
         Fracture {
             critical_stretch,
+            criterion: FailureCriterion::Stretch,
             limit,
             kinematics,
             intact: vec![true; bonds.len()],
@@ -245,6 +250,104 @@ impl Fracture {
     /// order of their first particle), and the sizes in that order.
     pub fn fragment_labels(&self, bonds: &BondList) -> (Vec<u32>, Vec<usize>) {
         bonds.components(|b| self.intact[b])
+    }
+}
+
+/// Under `failure = "tension"`, the normal stress along a failing bond must be tensile and at
+/// least this share of the largest principal stress (in magnitude) of the stress at the bond:
+/// a bond along the tension that dominates (a bar pulled along it, the radial bonds outside a
+/// Hertz contact, the bonds across a mode I crack's path) has 1, a bond stretched only by
+/// Poisson's effect of a compression across it (below a contact) about 0. Measured against
+/// the fitted stress's own scale, not against `E s`: the fit is smoothed over the horizon,
+/// and at a crack tip the bond's own stretch is many times the fitted strain.
+pub const TENSION_SHARE: f64 = 0.5;
+
+impl super::PdBody {
+    /// The bonds of `failing` ([`Fracture::failing`], at the positions `pos`) that fail by the
+    /// body's [`FailureCriterion`]: all of them by the stretch; by tension, those whose
+    /// normal stress along the bond, `e·σ̄·e` with `σ̄` the mean of its two particles'
+    /// recovered stresses ([`super::PdBody::stress`], over their intact bonds; a mirror
+    /// image's its source's, reflected), is tensile and at least [`TENSION_SHARE`] of σ̄'s
+    /// largest principal stress in magnitude, where the material is intact (neither particle
+    /// has lost a bond); beside a crack, by the stretch alone.
+    /// One process: the stresses are fitted over this process's particles.
+    pub fn spare_compressed(&self, failing: Vec<(u32, u32)>, pos: &[Vec3]) -> Vec<(u32, u32)> {
+        let Some(fr) = &self.fracture else {
+            return failing;
+        };
+        if fr.criterion == FailureCriterion::Stretch || failing.is_empty() {
+            return failing;
+        }
+        let n = self.len();
+        let ghosts = &self.case.ghosts;
+        let bonds = &self.case.bonds;
+        let real = |j: usize| {
+            if j < n {
+                j
+            } else {
+                ghosts.source[j - n] as usize
+            }
+        };
+        // Intact material: neither particle has lost a bond (a pre-crack's cut counts). A
+        // crack that is there grows by the stretch alone (as Silling & Askari's, whose
+        // critical stretch gives G0): the bonds that must break to open it include some
+        // nearly along its faces, which the stress across them would spare.
+        let intact = |i: usize, b: usize| {
+            fr.damage(i) == 0.0 && fr.damage(real(bonds.partner[b] as usize)) == 0.0
+        };
+        let mut at: Vec<usize> = failing
+            .iter()
+            .filter(|&&(i, b)| intact(i as usize, b as usize))
+            .flat_map(|&(i, b)| [i as usize, real(bonds.partner[b as usize] as usize)])
+            .collect();
+        at.sort_unstable();
+        at.dedup();
+        let sigma = self.stress(&self.u, &at, None);
+        let stress_of = |j: usize| {
+            let k = at.binary_search(&real(j)).expect("gathered above");
+            let mut s = sigma[k];
+            if j >= n {
+                // A reflection flips the sign of the components that pair a mirrored axis
+                // with one that is not.
+                let mask = ghosts.mask[j - n];
+                for (p, plane) in ghosts.planes.iter().enumerate() {
+                    if mask & (1 << p) != 0 {
+                        let a = plane.axis;
+                        for c in 0..3 {
+                            if c != a {
+                                s[(a, c)] = -s[(a, c)];
+                                s[(c, a)] = -s[(c, a)];
+                            }
+                        }
+                    }
+                }
+            }
+            s
+        };
+        failing
+            .into_iter()
+            .filter(|&(i, b)| {
+                let (i, b) = (i as usize, b as usize);
+                if !intact(i, b) {
+                    return true;
+                }
+                let j = bonds.partner[b] as usize;
+                // The bond's direction: as built (small kinematics), or as it stands.
+                let e = match self.kinematics {
+                    Kinematics::Small => (self.reference[j] - self.reference[i]).normalize(),
+                    Kinematics::Finite => (pos[j] - pos[i]).normalize(),
+                };
+                let mean = 0.5 * (stress_of(i) + stress_of(j));
+                let scale = mean
+                    .symmetric_eigenvalues()
+                    .iter()
+                    .fold(0.0f64, |m, l| m.max(l.abs()));
+                let normal = e.dot(&(mean * e));
+                // No stress to read (a particle left with too few bonds to fit one): the
+                // stretch decides.
+                scale == 0.0 || (normal > 0.0 && normal >= TENSION_SHARE * scale)
+            })
+            .collect()
     }
 }
 

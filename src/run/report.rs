@@ -145,6 +145,8 @@ pub struct FractureReport {
     pub body: String,
     /// `s0` at the body's horizon; absent where only pre-cracks cut bonds.
     pub critical_stretch: Option<f64>,
+    /// What fails a bond past `s0`: `"stretch"` or `"tension"`.
+    pub failure: crate::scene::FailureCriterion,
     /// Bonds broken, pre-cracks' included (a real pair once, a bond to a mirror image once).
     pub broken_bonds: usize,
     /// Particles with any damage, and the largest damage.
@@ -182,6 +184,7 @@ pub fn fracture_reports(model: &Model) -> Vec<FractureReport> {
             Some(FractureReport {
                 body: pd.name.clone(),
                 critical_stretch: f.critical_stretch,
+                failure: f.criterion,
                 broken_bonds: f.broken,
                 damaged_particles: damage.iter().filter(|&&d| d > 0.0).count(),
                 max_damage: damage.iter().copied().fold(0.0, f64::max),

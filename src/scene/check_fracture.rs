@@ -21,6 +21,15 @@ pub(super) fn fracture_keys(
             ),
         ));
     }
+    if m.failure.is_some() && m.fracture_energy.is_none() && m.critical_stretch.is_none() {
+        return Err(err(
+            "failure",
+            format!(
+                "body \"{}\": failure chooses how bonds fail; give fracture_energy or critical_stretch as well, or leave failure out",
+                b.name
+            ),
+        ));
+    }
     for (what, v) in [
         ("fracture_energy", m.fracture_energy),
         ("critical_stretch", m.critical_stretch),

@@ -330,6 +330,25 @@ pub struct MaterialSpec {
     pub fracture_energy: Option<f64>,
     /// Instead of `fracture_energy`: the critical stretch s0 itself.
     pub critical_stretch: Option<f64>,
+    /// What fails a bond past s0: its stretch alone (the default) or only a tension along it.
+    pub failure: Option<FailureCriterion>,
+}
+
+/// `failure` of `[body.material]`: what fails a bond stretched past its critical stretch
+/// (METHOD.md §9, [`crate::body::fracture`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum FailureCriterion {
+    /// Silling & Askari 2005: the stretch alone.
+    #[default]
+    Stretch,
+    /// The stretch, where a tension along the bond stretched it: the normal stress along the
+    /// bond (its particles' recovered stresses, averaged) tensile and at least half the
+    /// largest principal stress, so that a bond stretched only by Poisson's effect of a
+    /// compression across it (below a contact) holds, as a brittle solid does. Where either
+    /// particle has lost a bond (a crack is there), the stretch alone: cracks grow as
+    /// Silling & Askari's.
+    Tension,
 }
 
 /// `influence_function` of `[body.material]` (the linear peridynamic solid's).

@@ -186,6 +186,10 @@ pub(crate) enum Command {
         /// the bond-based model (ν = 1/4).
         #[arg(long, value_name = "NU")]
         lps: Option<f64>,
+        /// What fails the notched beam's bonds past their critical stretch: the stretch
+        /// alone, or only a tension along the bond (`[body.material] failure`).
+        #[arg(long, value_enum, default_value_t = BeamFailure::Stretch)]
+        failure: BeamFailure,
         /// The loading roller's travel, m.
         #[arg(long, default_value_t = 0.0008)]
         displacement: f64,
@@ -492,6 +496,15 @@ pub(crate) enum BeamSolver {
     Adr,
     /// Newton's method, bonds tested near each equilibrium.
     Static,
+}
+
+/// `fracture --failure` (the notched beam).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub(crate) enum BeamFailure {
+    /// The stretch alone (Silling & Askari 2005).
+    Stretch,
+    /// The stretch, where a tension along the bond stretched it.
+    Tension,
 }
 
 /// `fracture --case`.

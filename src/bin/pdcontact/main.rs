@@ -129,6 +129,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
             solver,
             thickness,
             lps,
+            failure,
             displacement,
             steps,
             output,
@@ -201,6 +202,10 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 mesh: beam_mesh,
                 static_solver: solver == BeamSolver::Static,
                 lps_poisson: lps,
+                failure: match failure {
+                    BeamFailure::Stretch => pdcontact::scene::FailureCriterion::Stretch,
+                    BeamFailure::Tension => pdcontact::scene::FailureCriterion::Tension,
+                },
             };
             let r = pdcontact::studies::fracture::run_beam(&beam, &output, quiet)?;
             print_report(json, &r, || r.to_text());

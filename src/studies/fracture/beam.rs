@@ -64,6 +64,8 @@ pub struct NotchedBeam {
     /// same fracture energy, [`crate::body::fracture::critical_stretch_lps`]) instead of the
     /// bond-based model (ν = 1/4).
     pub lps_poisson: Option<f64>,
+    /// What fails a bond past its critical stretch (`[body.material] failure`).
+    pub failure: crate::scene::FailureCriterion,
 }
 
 impl NotchedBeam {
@@ -116,7 +118,7 @@ impl NotchedBeam {
              [[body]]\nname = \"beam\"\n\
              {body}\n\
              kinematics = \"small\"\n{skin}\
-             material = {{ youngs_modulus = {YOUNGS:e}, poisson_ratio = {nu}, density = 1200, fracture_energy = {FRACTURE_ENERGY}{model} }}\n\n\
+             material = {{ youngs_modulus = {YOUNGS:e}, poisson_ratio = {nu}, density = 1200, fracture_energy = {FRACTURE_ENERGY}{model}{failure} }}\n\n\
              [[symmetry]]\nbody = \"beam\"\naxis = \"y\"\n\n\
              {notch}{pin}{left}{right}{striker}",
             kind = if self.static_solver { "static" } else { "adr" },
@@ -134,6 +136,10 @@ impl NotchedBeam {
                 ", model = \"lps\""
             } else {
                 ""
+            },
+            failure = match self.failure {
+                crate::scene::FailureCriterion::Stretch => "",
+                crate::scene::FailureCriterion::Tension => ", failure = \"tension\"",
             },
             pin = if self.static_solver { PIN } else { "" },
             steps = self.steps,
