@@ -6,6 +6,7 @@
 pub mod domain;
 mod found;
 pub mod path;
+mod serial;
 
 use std::sync::Arc;
 
@@ -344,40 +345,7 @@ impl Model {
     /// evaluates and moves its own particles. Collective.
     pub fn distribute(&mut self, comm: Arc<dyn Comm>) -> Result<()> {
         // Every rank refuses alike, before any collective call.
-        if let Some(p) = self.passes.iter().find(|p| p.is_pieces()) {
-            return Err(crate::error::Error::input(format!(
-                "contact between the pieces of \"{}\" (solids of its mesh that no bond joins) runs in one process for now: run the scene without mpirun",
-                self.bodies[p.slave].name()
-            )));
-        }
-        if let Some(p) = self.passes.iter().find(|p| p.is_found_faces()) {
-            return Err(crate::error::Error::input(format!(
-                "contact of \"{}\" with the surfaces its broken bonds open runs in one process for now: run the scene without mpirun",
-                self.bodies[p.slave].name()
-            )));
-        }
-        if let Some(p) = self.passes.iter().find(|p| p.is_crack()) {
-            return Err(crate::error::Error::input(format!(
-                "contact between the faces of \"{}\"'s pre-cracks runs in one process for now: run the scene without mpirun",
-                self.bodies[p.slave].name()
-            )));
-        }
-        if let Some(pd) = self.bodies.iter().filter_map(Body::as_pd).find(|pd| {
-            pd.fracture
-                .as_ref()
-                .is_some_and(|f| f.criterion == crate::body::fracture::FailureCriterion::Tension)
-        }) {
-            return Err(crate::error::Error::input(format!(
-                "failure = \"tension\" on \"{}\" runs in one process for now (a bond's stress is fitted over both its particles' neighbourhoods): run the scene without mpirun",
-                pd.name
-            )));
-        }
-        if let Some(p) = self.fragments.first() {
-            return Err(crate::error::Error::input(format!(
-                "contact between the pieces of \"{}\" (its own short-range master) runs in one process for now: run the scene without mpirun",
-                self.bodies[p.body].name()
-            )));
-        }
+        self.check_distributable()?;
         let domain = Domain::new(&self.bodies, &self.passes, &self.short_range, comm);
         let rank = domain.rank();
         for (k, body) in self.bodies.iter_mut().enumerate() {
