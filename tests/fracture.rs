@@ -380,8 +380,8 @@ fn tension_spares_the_bonds_that_poissons_effect_stretched() {
 /// The most stretched bond lies below the contact, in Hertz's shear zone, where all three
 /// principal stresses are compressive: the stretch alone fails it first, which no brittle
 /// solid does. With `failure = "tension"` the first is on the surface outside the contact,
-/// where the radial tension of the ring crack peaks (measured: 1.31a of the fitted contact
-/// radius at this spacing, 1.03-1.13a at Δ = 0.1 mm).
+/// where the radial tension of the ring crack peaks (measured: 1.21a of the fitted contact
+/// radius at this spacing).
 #[test]
 fn tension_fails_a_hertz_contact_first_outside_its_edge() {
     let scene = "[solver]\nkind = \"static\"\nload_steps = 6\n\n\

@@ -256,21 +256,23 @@ impl Fracture {
 /// Under `failure = "tension"`, the normal stress along a failing bond must be tensile and at
 /// least this share of the largest principal stress (in magnitude) of the stress at the bond:
 /// a bond along the tension that dominates (a bar pulled along it, the radial bonds outside a
-/// Hertz contact, the bonds across a mode I crack's path) has 1, a bond stretched only by
-/// Poisson's effect of a compression across it (below a contact) about 0. Measured against
-/// the fitted stress's own scale, not against `E s`: the fit is smoothed over the horizon,
-/// and at a crack tip the bond's own stretch is many times the fitted strain.
+/// Hertz contact, the bonds across a mode I crack's path) has 1 or more, a bond stretched only
+/// by Poisson's effect of a compression across it (below a contact, a bar pressed across it)
+/// about 0.
 pub const TENSION_SHARE: f64 = 0.5;
 
 impl super::PdBody {
     /// The bonds of `failing` ([`Fracture::failing`], at the positions `pos`) that fail by the
-    /// body's [`FailureCriterion`]: all of them by the stretch; by tension, those whose
-    /// normal stress along the bond, `e·σ̄·e` with `σ̄` the mean of its two particles'
-    /// recovered stresses ([`super::PdBody::stress`], over their intact bonds; a mirror
-    /// image's its source's, reflected), is tensile and at least [`TENSION_SHARE`] of σ̄'s
-    /// largest principal stress in magnitude, where the material is intact (neither particle
-    /// has lost a bond); beside a crack, by the stretch alone.
-    /// One process: the stresses are fitted over this process's particles.
+    /// body's [`FailureCriterion`]: all of them by the stretch; by tension, those whose normal
+    /// stress along the bond, `λ θ + 2 μ s`, is tensile and at least [`TENSION_SHARE`] of σ̄'s
+    /// largest principal stress in magnitude. `s` is the bond's own stretch, `θ = tr σ̄ / 3κ`
+    /// the dilatation of `σ̄`, the mean of its two particles' recovered stresses
+    /// ([`super::PdBody::stress`], over their intact bonds; a mirror image's its source's,
+    /// reflected). The stretch is the bond's, local: at a contact's edge it resolves the
+    /// ring's tension, which the fit smooths into the compression inside, and at a crack tip
+    /// it concentrates as the fitted strain does not, so cracks grow by the stretch wherever
+    /// the material around them is not compressed. One process: the stresses are fitted over
+    /// this process's particles.
     pub fn spare_compressed(&self, failing: Vec<(u32, u32)>, pos: &[Vec3]) -> Vec<(u32, u32)> {
         let Some(fr) = &self.fracture else {
             return failing;
@@ -288,16 +290,8 @@ impl super::PdBody {
                 ghosts.source[j - n] as usize
             }
         };
-        // Intact material: neither particle has lost a bond (a pre-crack's cut counts). A
-        // crack that is there grows by the stretch alone (as Silling & Askari's, whose
-        // critical stretch gives G0): the bonds that must break to open it include some
-        // nearly along its faces, which the stress across them would spare.
-        let intact = |i: usize, b: usize| {
-            fr.damage(i) == 0.0 && fr.damage(real(bonds.partner[b] as usize)) == 0.0
-        };
         let mut at: Vec<usize> = failing
             .iter()
-            .filter(|&&(i, b)| intact(i as usize, b as usize))
             .flat_map(|&(i, b)| [i as usize, real(bonds.partner[b as usize] as usize)])
             .collect();
         at.sort_unstable();
@@ -328,21 +322,22 @@ impl super::PdBody {
             .into_iter()
             .filter(|&(i, b)| {
                 let (i, b) = (i as usize, b as usize);
-                if !intact(i, b) {
-                    return true;
-                }
                 let j = bonds.partner[b] as usize;
-                // The bond's direction: as built (small kinematics), or as it stands.
-                let e = match self.kinematics {
-                    Kinematics::Small => (self.reference[j] - self.reference[i]).normalize(),
-                    Kinematics::Finite => (pos[j] - pos[i]).normalize(),
-                };
                 let mean = 0.5 * (stress_of(i) + stress_of(j));
                 let scale = mean
                     .symmetric_eigenvalues()
                     .iter()
                     .fold(0.0f64, |m, l| m.max(l.abs()));
-                let normal = e.dot(&(mean * e));
+                // `λ θ + 2 μ s = (ν tr σ̄ + E s) / (1 + ν)`, the bond's stretch s as
+                // `Fracture::failing` measures it.
+                let xi = self.reference[j] - self.reference[i];
+                let d = pos[j] - pos[i];
+                let stretch = match self.kinematics {
+                    Kinematics::Small => (d - xi).dot(&xi) / xi.norm_squared(),
+                    Kinematics::Finite => d.norm() / xi.norm() - 1.0,
+                };
+                let (youngs, nu) = (self.material.youngs, self.material.poisson);
+                let normal = (nu * mean.trace() + youngs * stretch) / (1.0 + nu);
                 // No stress to read (a particle left with too few bonds to fit one): the
                 // stretch decides.
                 scale == 0.0 || (normal > 0.0 && normal >= TENSION_SHARE * scale)

@@ -37,11 +37,10 @@ pub enum FailureCriterion {
     #[default]
     Stretch,
     /// The stretch, where a tension along the bond stretched it: the normal stress along the
-    /// bond (its particles' recovered stresses, averaged) tensile and at least half the
-    /// largest principal stress, so that a bond stretched only by Poisson's effect of a
-    /// compression across it (below a contact) holds, as a brittle solid does. Where either
-    /// particle has lost a bond (a crack is there), the stretch alone: cracks grow as
-    /// Silling & Askari's.
+    /// bond (`λ θ + 2 μ s` from its own stretch and its particles' recovered stresses) tensile
+    /// and at least half the largest principal stress, so that a bond stretched only by
+    /// Poisson's effect of a compression across it (below a contact) holds, as a brittle
+    /// solid does; at a crack tip in tension the stretch alone decides, as Silling & Askari's.
     Tension,
 }
 
