@@ -27,6 +27,11 @@ Defaults: H = 0.05, L = D = 4 m, HMAX = 0.3, FINE = 1.5a, G = 0.1, R = 1 m, E = 
 nu = 0.25, a = 0.3 m, penalty radius 4492 m. Compare with Hertz (R2 = 1e12 for the flat):
 
     two_spheres DIR/scene.toml OUT P R 1e12 E E
+
+Beside scene.toml it writes one_pass.toml (the same with two_pass = false: the sphere the
+slave, the block's pressure its reactions) and plane.toml (the sphere alone on a rigid plane
+at z = 0 under twice the load, which gives the same a: E* doubles), compared with
+`two_spheres DIR/plane.toml OUT 2P R 1e12 E 1e30`.
 """
 import argparse
 import math
@@ -74,6 +79,34 @@ body = "lower"
 axis = "z"
 at = {zcut}
 keep = "positive"
+"""
+
+SCENE_PLANE = """# The sphere of scene.toml alone on a rigid plane (tools/gmsh_sphere_block.py): R = {r} m,
+# E = {e:e} Pa; {mesh}. Hertz for a sphere on a rigid plane: a = {a} m under
+# P = {load:.6e} N on the whole sphere (a quarter here), twice the block's load
+[solver]
+kind = "adr"
+tolerance = 1e-4
+max_iterations = 20000
+[output]
+every = 1000000
+{upper}[[body]]
+name = "floor"
+kind = "rigid"
+generator = {{ shape = "plane", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0], size = 4.0, divisions = 1 }}
+[[load]]
+body = "upper"
+force = [0.0, 0.0, {quarter:e}]
+[[contact]]
+slave = "upper"
+master = "floor"
+radius = {penalty}
+[[symmetry]]
+body = "upper"
+axis = "x"
+[[symmetry]]
+body = "upper"
+axis = "y"
 """
 
 
@@ -156,6 +189,16 @@ def main():
             upper=BODY.format(name="upper", second_order=second, e=o.e),
             lower=BODY.format(name="lower", second_order=second, e=o.e),
             quarter=-load / 4.0, penalty=o.radius, zcut=-depth))
+    # The same scene with one pass, and the sphere alone on a rigid plane under 2P.
+    with open(os.path.join(o.dir, "scene.toml")) as f:
+        scene = f.read()
+    with open(os.path.join(o.dir, "one_pass.toml"), "w") as f:
+        f.write(scene.replace("two_pass = true", "two_pass = false"))
+    with open(os.path.join(o.dir, "plane.toml"), "w") as f:
+        f.write(SCENE_PLANE.format(
+            r=o.r, e=o.e, a=o.a, load=2.0 * load, mesh=mesh,
+            upper=BODY.format(name="upper", second_order=second, e=o.e),
+            quarter=-load / 2.0, penalty=o.radius))
     print(f"P = {load:.6e} N (whole sphere), R* = {r_star:.6g} m, E* = {e_star:.6e} Pa, a = {o.a} m, "
           f"p0 = {p0:.6e} Pa; nodes: upper {nu_}, lower {nl}")
 
