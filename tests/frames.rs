@@ -319,3 +319,99 @@ print(white.mean(), white[caption].sum(), white[legend].sum(), red[legend].sum()
     assert!(white < 0.004, "text oversized: {:.2}% white", 100.0 * white);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Where bonds broke, `view.py` shows the damage: the block of `scene` cut by a pre-crack
+/// reaching down from its top face (the cut shows as damage, METHOD.md §9) is seen along its
+/// thinnest axis, z, from the side the damage lies on, above it (the undamaged particles and
+/// the floor below would hide it); with ParaView at hand the picture shows the damaged
+/// particles in colour at its centre. Skipped, saying so, without Python's vtk (or ParaView
+/// for the picture).
+#[test]
+fn view_py_looks_at_the_damage_from_its_side() {
+    let text = scene("kind = \"adr\"\ntolerance = 1e-3", 1_000_000)
+        .replace("spacing = 0.25", "spacing = 0.1")
+        + "[[precrack]]\nbody = \"block\"\npoint = [0.5, 0.5, 0.45]\nnormal = [1.0, 0.0, 0.0]\n\
+           along = [0.0, 0.0, 1.0]\nsize = [0.2, 0.6]\n";
+    let out = run("damage", &text);
+    if !common::python_has("vtk") {
+        common::skipped(
+            "view.py --focus on damage",
+            "python3 with vtk not found (pip install vtk)",
+        );
+        return;
+    }
+    let script = out.join("view.py");
+    let focus = Command::new("python3")
+        .arg(&script)
+        .arg("--focus")
+        .output()
+        .expect("python3 runs");
+    assert!(
+        focus.status.success(),
+        "{}",
+        String::from_utf8_lossy(&focus.stderr)
+    );
+    let r: serde_json::Value = serde_json::from_slice(&focus.stdout).expect("JSON");
+    assert!(r["damaged"].as_u64().expect("count") > 0, "{r}");
+    assert!(r["normal"][2].as_f64().expect("nz") > 0.99, "{r}");
+    let centre = &r["centre"];
+    assert!(
+        (centre[0].as_f64().expect("x") - 0.5).abs() < 0.1 && centre[2].as_f64().expect("z") > 0.25,
+        "{r}"
+    );
+    assert!(
+        r["caption"]
+            .as_str()
+            .expect("caption")
+            .contains("particles damaged"),
+        "{r}"
+    );
+    let found = |tool: &str| {
+        Command::new("sh")
+            .args(["-c", &format!("command -v {tool}")])
+            .output()
+            .is_ok_and(|o| o.status.success())
+    };
+    if !(found("pvpython") && found("xvfb-run")) {
+        common::skipped(
+            "view.py render of damage",
+            "pvpython or xvfb-run not found (apt-get install paraview python3-paraview xvfb)",
+        );
+        return;
+    }
+    let png = out.join("damage.png");
+    let render = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x1024x24 -noreset", "pvpython"])
+        .arg(&script)
+        .arg(&png)
+        .output()
+        .expect("xvfb-run runs");
+    assert!(
+        render.status.success() && png.is_file(),
+        "{}{}",
+        String::from_utf8_lossy(&render.stdout),
+        String::from_utf8_lossy(&render.stderr)
+    );
+    // Coloured pixels (the colour map's, not the grey body, background or white text) in the
+    // middle third of the picture.
+    let probe = r#"
+import sys, vtk
+from vtk.util.numpy_support import vtk_to_numpy
+r = vtk.vtkPNGReader(); r.SetFileName(sys.argv[1]); r.Update()
+w, h, _ = r.GetOutput().GetDimensions()
+img = vtk_to_numpy(r.GetOutput().GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3] / 255.0
+mid = img[h // 3: 2 * h // 3, w // 3: 2 * w // 3]
+print(int(((mid.max(2) - mid.min(2)) > 0.3).sum()))
+"#;
+    let probed = Command::new("python3")
+        .args(["-c", probe])
+        .arg(&png)
+        .output()
+        .expect("python3 runs");
+    let coloured: usize = String::from_utf8_lossy(&probed.stdout)
+        .trim()
+        .parse()
+        .unwrap_or_else(|_| panic!("{}", String::from_utf8_lossy(&probed.stderr)));
+    assert!(coloured > 200, "{coloured} coloured pixels at the centre");
+    let _ = std::fs::remove_dir_all(out.parent().expect("dir"));
+}

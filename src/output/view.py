@@ -16,9 +16,9 @@ loaded surface nodes, along their mean outward normal. The legend, in the lower 
 gives the pressure in the unit that suits the frame (Pa, kPa, MPa or GPa; every label in one
 format) from 0 to its largest value; the upper left corner names the contact pairs and the
 frame: its load factor and iteration (ADR or the static solver) or its time (s) and step (explicit). Where bonds
-broke (a `damage` field above 0), the deformable bodies' particles are shown coloured by
-damage, from 0 to 1, seen along the axis in which the bodies are thinnest, centred on the
-damaged particles.
+broke (a `damage` field above 0), the damaged particles are shown coloured by damage, from 0
+to 1, inside their bodies drawn faintly (the undamaged particles would hide them), seen along
+the axis in which the bodies are thinnest, from the side the damage lies on, centred on it.
 
 Offscreen, without a display, under a virtual X server that outlives pvpython's first client:
 
@@ -214,7 +214,11 @@ def damage_focus(blocks):
         return None
     extent = [b - a for a, b in zip(blo, bhi)]
     order = sorted(range(3), key=lambda k: extent[k])
-    normal = [-1.0 if k == order[0] else 0.0 for k in range(3)]
+    # From the side of the bodies' middle that the damage lies on (a ring under a contact:
+    # from the contact's side; a crack through a beam's thickness: either).
+    k = order[0]
+    side = 1.0 if (lo[k] + hi[k]) >= (blo[k] + bhi[k]) else -1.0
+    normal = [side if j == k else 0.0 for j in range(3)]
     # Up along the bodies' middle extent: a beam's height, a plate's shorter side.
     up = [1.0 if k == order[1] else 0.0 for k in range(3)]
     centre = [(a + b) / 2 for a, b in zip(lo, hi)]
@@ -285,13 +289,32 @@ def main(argv):
     if damage is not None:
         shown, title, pmax, size, slaves = "damage", "damage", 1.0, 1.0, []
         for b in DEFORMABLE:
-            d = pv.Show(block(b + "/particles"), view)
+            # The body faintly, for where the damage lies: its surface where the frame has
+            # one, else its particles.
+            has_surface = b + "/surface" in blocks
+            d = pv.Show(block(b + ("/surface" if has_surface else "/particles")), view)
+            pv.ColorBy(d, None)
+            d.Representation = "Surface" if has_surface else "Points"
+            d.AmbientColor = d.DiffuseColor = [0.75, 0.75, 0.8]
+            d.Opacity = 0.15
+            # The damaged particles alone: the undamaged ones in front would hide them.
+            damaged = pv.Threshold(Input=block(b + "/particles"))
+            damaged.Scalars = ["POINTS", "damage"]
+            if hasattr(damaged, "ThresholdMethod"):  # ParaView 5.10 and later
+                damaged.LowerThreshold, damaged.UpperThreshold = 1e-9, 1.0
+                damaged.ThresholdMethod = "Between"
+            else:
+                damaged.ThresholdRange = [1e-9, 1.0]
+            d = pv.Show(damaged, view)
             d.Representation = "Points"
             d.PointSize = 6
             d.RenderPointsAsSpheres = 1
             pv.ColorBy(d, ("POINTS", "damage"))
             d.SetScalarBarVisibility(view, True)
-        pv.GetColorTransferFunction("damage").ApplyPreset("Inferno (matplotlib)", True)
+        # Bright from its low end: a damage of 0.1 must show against the faint body.
+        pv.GetColorTransferFunction("damage").ApplyPreset("Turbo", True)
+        # The damage alone: a master drawn over it would dim it.
+        masters = []
     for s in slaves:
         src = block(s + "/surface")
         if size != 1.0:
@@ -336,6 +359,10 @@ def main(argv):
     view.CameraPosition = position
     view.CameraFocalPoint = focal
     view.CameraViewUp = up
+    if damage is not None:
+        # Parallel: the particles of a lattice line up, where perspective draws them as rods.
+        view.CameraParallelProjection = 1
+        view.CameraParallelScale = 1.15 * damage[3]
     view.OrientationAxesVisibility = 1
     if png:
         # Rendered at the picture's size: saved at another, ParaView scales the fonts with it.
