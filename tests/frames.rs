@@ -194,6 +194,32 @@ fn explicit_frames_at_their_times() {
     let _ = std::fs::remove_dir_all(out.parent().expect("dir"));
 }
 
+/// Whether a command is on the PATH.
+fn found(tool: &str) -> bool {
+    Command::new("sh")
+        .args(["-c", &format!("command -v {tool}")])
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// Renders a run's `view.py` to `png` offscreen, by the README's command. `-noreset`: pvpython
+/// connects to the X server three times in a row, and a server that resets when its last
+/// client leaves can refuse the next one ("bad X server connection").
+fn render(script: &Path, png: &Path) {
+    let render = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x1024x24 -noreset", "pvpython"])
+        .arg(script)
+        .arg(png)
+        .output()
+        .expect("xvfb-run runs");
+    assert!(
+        render.status.success() && png.is_file(),
+        "{}{}",
+        String::from_utf8_lossy(&render.stdout),
+        String::from_utf8_lossy(&render.stderr)
+    );
+}
+
 /// With ParaView at hand (`pvpython` and `xvfb-run`), `view.py` renders the last frame of the
 /// demo offscreen through the README's command, and the PNG, at the script's 1600 × 1000, shows
 /// the contact and reads: the image centre, where the camera looks at the loaded surface, is
@@ -204,12 +230,6 @@ fn explicit_frames_at_their_times() {
 /// ParaView or Python's vtk (to read the PNG) is missing.
 #[test]
 fn view_py_renders_the_contact_in_paraview() {
-    let found = |tool: &str| {
-        Command::new("sh")
-            .args(["-c", &format!("command -v {tool}")])
-            .output()
-            .is_ok_and(|o| o.status.success())
-    };
     let vtk = common::python_has("vtk");
     if !(found("pvpython") && found("xvfb-run") && vtk) {
         common::skipped(
@@ -249,21 +269,7 @@ fn view_py_renders_the_contact_in_paraview() {
     );
     assert_eq!(r["legend"], "contact pressure (MPa)", "{r}");
     let png = dir.join("contact.png");
-    // The README's command. `-noreset`: pvpython connects to the X server three times in a
-    // row, and a server that resets when its last client leaves can refuse the next one
-    // ("bad X server connection").
-    let render = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x1024x24 -noreset", "pvpython"])
-        .arg(&script)
-        .arg(&png)
-        .output()
-        .expect("xvfb-run runs");
-    assert!(
-        render.status.success() && png.is_file(),
-        "{}{}",
-        String::from_utf8_lossy(&render.stdout),
-        String::from_utf8_lossy(&render.stderr)
-    );
+    render(&script, &png);
     // The picture's size; the mean colour of a window at the centre and of the upper right
     // corner; the fraction of white (text) pixels; and the count of white pixels in the upper
     // left corner, of white, red and blue ones in the lower right.
@@ -366,12 +372,6 @@ fn view_py_looks_at_the_damage_from_its_side() {
             .contains("particles damaged"),
         "{r}"
     );
-    let found = |tool: &str| {
-        Command::new("sh")
-            .args(["-c", &format!("command -v {tool}")])
-            .output()
-            .is_ok_and(|o| o.status.success())
-    };
     if !(found("pvpython") && found("xvfb-run")) {
         common::skipped(
             "view.py render of damage",
@@ -380,18 +380,7 @@ fn view_py_looks_at_the_damage_from_its_side() {
         return;
     }
     let png = out.join("damage.png");
-    let render = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x1024x24 -noreset", "pvpython"])
-        .arg(&script)
-        .arg(&png)
-        .output()
-        .expect("xvfb-run runs");
-    assert!(
-        render.status.success() && png.is_file(),
-        "{}{}",
-        String::from_utf8_lossy(&render.stdout),
-        String::from_utf8_lossy(&render.stderr)
-    );
+    render(&script, &png);
     // Coloured pixels (the colour map's, not the grey body, background or white text) in the
     // middle third of the picture.
     let probe = r#"
