@@ -331,14 +331,6 @@ fn cut_back_note(e: Error, halved: usize, done: f64, target: f64) -> Error {
 
 /// One ADR relaxation from the current state to equilibrium under the current loads (Eqs.
 /// 27-33), numbering iterations on from `n0`; returns the last iteration's number.
-///
-/// The damping `c = 2 √(vᵀ ¹K v / vᵀ v)` takes Eq. 33's Rayleigh quotient over the step's
-/// motion `v` rather than the displacement `u`: near equilibrium what still moves is the
-/// slowest mode left, and the damping should fit it, whereas `u` is mostly the solution
-/// itself (a free body's whole approach, say), and the contact's share of `¹K` on it swings
-/// in sign. Between two deformable bodies pressed together that made `c` zero on a third of
-/// the iterations and too large on the others, and the pair's slow mode overdamped
-/// (docs/VALIDATION.md, "Two deformable bodies", cause 10).
 pub(super) fn adr_increment(
     model: &mut Model,
     density: &[Vec<f64>],
@@ -493,12 +485,11 @@ pub(super) fn adr_increment(
                             if ff[a] == 0.0 {
                                 continue;
                             }
-                            // Over the step's motion v, not u (see `adr_increment`).
                             if v[a] != 0.0 {
                                 let k1 = -(f[a] - prev[i][a]) / (lam * v[a]);
-                                s.num += v[a] * k1 * v[a];
+                                s.num += u[a] * k1 * u[a];
                             }
-                            s.den += v[a] * v[a];
+                            s.den += u[a] * u[a];
                         }
                         s
                     },
@@ -533,10 +524,10 @@ pub(super) fn adr_increment(
                 }
                 Body::Rigid(rb) if rb.motion == Motion::Free => {
                     let f = (rb.load + rb.contact_force).dot(&rb.axis);
-                    let z = rb.axial_speed;
+                    let z = rb.translation.dot(&rb.axis);
                     sum.residual += f * f;
-                    if z != 0.0 {
-                        sum.num += z * z * (-(f - prev_rf[k]) / (rigid_lambda[k] * z));
+                    if rb.axial_speed != 0.0 {
+                        sum.num += z * z * (-(f - prev_rf[k]) / (rigid_lambda[k] * rb.axial_speed));
                     }
                     sum.den += z * z;
                 }

@@ -5,8 +5,7 @@
 //! **ADR** (Kilic & Madenci 2010, Eqs. 27-33, Δt = 1): a fictitious diagonal density
 //! `λ_i ≥ ¼ Σ_j |K_ij|` (Eq. 31) from Gershgorin's bound on the bond stiffness `w n⊗n` plus the
 //! contact's tangent stiffness `1.5 K δ^{1/2}` at the edge of the window (without it contact
-//! makes ADR unstable); damping `c = 2 √(vᵀ ¹K v / vᵀ v)` with the local stiffness of Eq. 33 over the step's motion `v`
-//! (Eq. 33 has the displacement `u`; [`adr::adr_increment`] says why);
+//! makes ADR unstable); damping `c = 2 √(uᵀ ¹K u / uᵀ u)` with the local stiffness of Eq. 33;
 //! the velocity update of Eq. 29 with its sign corrected:
 //! `v^{n+½} = ((2 − c) v^{n−½} + 2 F/λ) / (2 + c)`. Converged when the out-of-balance force of
 //! the free degrees of freedom, `‖R‖₂`, is below `tolerance · ‖F_applied‖₂`.
