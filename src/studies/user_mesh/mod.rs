@@ -247,14 +247,12 @@ pub enum Partner {
     /// the pressing direction, so that it touches the body there from the other side: two
     /// deformable bodies meshed alike (Hertz for two identical spheres, METHOD.md §7:
     /// `R* = R/2`, `E* = E/(2(1 − ν²))`, the same contact radius under the same load). Each is
-    /// loaded by volume towards the other, two passes, and held sideways by pins at its
-    /// centre and its far pole (the particles nearest them, `nearest` in `[[constraint]]`):
-    /// frictionless spheres pressed together would otherwise slide off each other or turn; and
-    /// a third pin off the axis, held across its radius, stops them spinning about it. Along
-    /// the pressing axis nothing holds the pair: its loads are equal and opposite. (A pin
-    /// there, at the copy's far pole, carried ADR's transient through one particle and took
-    /// 2,238 iterations instead of 1,357 on the h = 0.07 m tet sphere.)
-    /// The loads balance, so the pins carry next to nothing.
+    /// loaded by volume towards the other, two passes, and held by pins where the
+    /// axisymmetric solution is at rest (the particles nearest them, `nearest` in
+    /// `[[constraint]]`): seven on its axis held across it, and four round its centre held
+    /// across their radius; frictionless spheres pressed together would otherwise slide off
+    /// each other, tilt, or spin about the axis. Along the pressing axis nothing holds the
+    /// pair: its loads are equal and opposite, so the pins carry next to nothing.
     Copy,
 }
 

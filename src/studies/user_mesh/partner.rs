@@ -23,20 +23,8 @@ pub(super) fn copy_partner(
     turn[(press + 1) % 3] = 1.0;
     let mut below = shape.centre;
     below[press] = 2.0 * shape.lowest - shape.centre[press];
-    // The far poles: a second pin on each body's axis holds it from turning about its centre.
-    let mut top = shape.centre;
-    top[press] = 2.0 * shape.centre[press] - shape.lowest;
-    let mut bottom = shape.centre;
-    bottom[press] = 2.0 * shape.lowest - top[press];
-    // And a third, off the axis, held across its radius only: the spin about the pressing
-    // axis, which pins on the axis leave free (the contact's small tangential forces turned
-    // the two spheres opposite ways, and ADR crept for 16,000 iterations).
     let side_axis = (press + 1) % 3;
-    let spin_axis = ["x", "y", "z"][3 - press - side_axis];
-    let mut side = shape.centre;
-    side[side_axis] += 0.5 * shape.radius;
-    let mut side_copy = below;
-    side_copy[side_axis] += 0.5 * shape.radius;
+    let spin_axis = 3 - press - side_axis;
     let lateral: Vec<String> = (0..3)
         .filter(|&a| a != press)
         .map(|a| format!("\"{}\"", ["x", "y", "z"][a]))
@@ -75,48 +63,73 @@ pub(super) fn copy_partner(
 [[load]]
 body = \"copy\"              # spread over the copy by volume, towards the body
 force = {up}
-
-[[constraint]]             # pins at the centre and the far pole of each hold them sideways
-body = \"{name}\"           # and from turning; the loads balance, so they carry next to nothing
-nearest = {centre}
-fix = [{lateral}]
-
-[[constraint]]
-body = \"{name}\"
-nearest = {top}
-fix = [{lateral}]
-
-[[constraint]]
-body = \"copy\"
-nearest = {below}
-fix = [{lateral}]
-
-[[constraint]]
-body = \"copy\"
-nearest = {bottom}
-fix = [{lateral}]
-
-[[constraint]]             # and one off the axis, across its radius, from spinning about it
-body = \"{name}\"
-nearest = {side}
-fix = [\"{spin_axis}\"]
-
-[[constraint]]
-body = \"copy\"
-nearest = {side_copy}
-fix = [\"{spin_axis}\"]
-",
+{pins}",
         head = scene[..body_start].replacen(
             "against a rigid plane",
             "pressed on a turned copy of itself",
             1
         ),
         up = vector(up),
-        centre = vector(shape.centre),
-        below = vector(below),
-        top = vector(top),
-        bottom = vector(bottom),
-        side = vector(side),
-        side_copy = vector(side_copy),
+        pins = [(name, shape.centre), ("copy", below)]
+            .iter()
+            .map(|&(body, centre)| pins(body, centre, shape, &lateral, side_axis, spin_axis))
+            .collect::<String>(),
     )
+}
+
+/// Where along a body's axis [`pins`] holds it sideways, as multiples of the radius from its
+/// centre away from the contact: from half a radius short of the centre to the far pole.
+const AXIS_PINS: [f64; 7] = [-0.5, -0.25, 0.0, 0.25, 0.5, 0.75, 1.0];
+
+/// The `[[constraint]]`s that hold body `body` (centre `centre`, pressed along `shape.press`
+/// towards the contact) from sliding, tilting and spinning, where frictionless spheres
+/// pressed together are free to (their loads balance along the axis, which nothing holds).
+///
+/// Each holds what the axisymmetric solution leaves at rest, so that they carry next to
+/// nothing: the particles nearest the axis at [`AXIS_PINS`] held across it, and four in the
+/// centre's plane, half a radius out, held across their radius (the hoop direction). A pin
+/// or two per direction held the pair as soft springs, a particle's bonds each: the two
+/// bodies' slide and turn, which the segments' small tangential forces drive, was then ADR's
+/// slowest mode and the static solver's worst, up to 7.6 times the ADR iterations on the
+/// rigid plane (docs/VALIDATION.md, "A mesh pressed on its copy").
+fn pins(
+    body: &str,
+    centre: [f64; 3],
+    shape: &MeshShape,
+    lateral: &str,
+    side_axis: usize,
+    spin_axis: usize,
+) -> String {
+    let press = shape.press;
+    // Away from the contact point (at `shape.lowest` along the axis): the body's centre lies
+    // above it, the copy's below.
+    let away = if centre[press] > shape.lowest {
+        1.0
+    } else {
+        -1.0
+    };
+    let name = ["x", "y", "z"];
+    let mut out = format!(
+        "\n# \"{body}\": pins where the axisymmetric solution is at rest hold it from sliding, tilting\n# and spinning; the loads balance, so they carry next to nothing. On its axis, across it:\n"
+    );
+    let pin = |p: [f64; 3], fix: &str| {
+        format!(
+            "\n[[constraint]]\nbody = \"{body}\"\nnearest = {}\nfix = [{fix}]\n",
+            vector(p)
+        )
+    };
+    for t in AXIS_PINS {
+        let mut p = centre;
+        p[press] += away * t * shape.radius;
+        out += &pin(p, lateral);
+    }
+    out += "\n# Round its centre, half a radius out, across their radius:\n";
+    for (axis, across) in [(side_axis, spin_axis), (spin_axis, side_axis)] {
+        for sign in [1.0, -1.0] {
+            let mut p = centre;
+            p[axis] += sign * 0.5 * shape.radius;
+            out += &pin(p, &format!("\"{}\"", name[across]));
+        }
+    }
+    out
 }
