@@ -267,12 +267,23 @@ impl Reader {
                 match lex::label(t).filter(|&v| v > 0 && v < MAX_LABEL) {
                     Some(l) => push_label(&mut self.sets[set].chunks, via_elements, unit, l),
                     None => {
+                        let name = &self.sets[set].name;
+                        // meshio writes the cell sets its gmsh reader made of gmsh's own
+                        // entity data ("gmsh:bounding_entities": entity tags, 0 and -1
+                        // among them) into an Abaqus file as element sets.
+                        let cause = if name.starts_with("gmsh:") {
+                            " (meshio's copy of gmsh's entity tags: write the file without its gmsh: cell sets)"
+                        } else {
+                            ""
+                        };
                         return Err(self.err(
                             file,
                             lineno,
-                            "a positive integer label or a set name",
+                            format!(
+                                "a positive integer label or a set name in set '{name}'{cause}"
+                            ),
                             describe_found(f),
-                        ))
+                        ));
                     }
                 }
                 continue;

@@ -34,6 +34,26 @@ fn structure_errors_are_located() {
 }
 
 #[test]
+fn a_set_of_gmsh_entity_tags_written_by_meshio_is_named() {
+    // meshio's Abaqus writer turns the cell set its gmsh reader makes of the entity tags
+    // into an *ELSET (here as meshio 5.3 writes it: 0, -1, 4, 3).
+    let e = fail(&format!(
+        "{HEX}*ELEMENT, TYPE=C3D8\n1, 1,2,3,4,5,6,7,8\n*ELSET, ELSET=gmsh:bounding_entities\n0,-1,4,3\n"
+    ));
+    assert_eq!(line_of(&e), 13, "{e}");
+    assert!(e.expected.contains("'gmsh:bounding_entities'"), "{e}");
+    assert!(e.expected.contains("meshio"), "{e}");
+    assert!(e.found.contains('0'), "{e}");
+    let e = fail(&format!(
+        "{HEX}*ELEMENT, TYPE=C3D8\n1, 1,2,3,4,5,6,7,8\n*ELSET, ELSET=mine\n1, 0\n"
+    ));
+    assert!(
+        e.expected.contains("'mine'") && !e.expected.contains("meshio"),
+        "{e}"
+    );
+}
+
+#[test]
 fn bad_elements_are_located() {
     // Undefined node.
     let e = fail(&format!(
