@@ -23,13 +23,6 @@ pub(super) fn copy_partner(
     turn[(press + 1) % 3] = 1.0;
     let mut below = shape.centre;
     below[press] = 2.0 * shape.lowest - shape.centre[press];
-    let side_axis = (press + 1) % 3;
-    let spin_axis = 3 - press - side_axis;
-    let lateral: Vec<String> = (0..3)
-        .filter(|&a| a != press)
-        .map(|a| format!("\"{}\"", ["x", "y", "z"][a]))
-        .collect();
-    let lateral = lateral.join(", ");
     let mut up = [0.0; 3];
     up[press] = total;
     // The body's block is the scene's up to the plane's; keep the body's lines (and its
@@ -72,7 +65,7 @@ force = {up}
         up = vector(up),
         pins = [(name, shape.centre), ("copy", below)]
             .iter()
-            .map(|&(body, centre)| pins(body, centre, shape, &lateral, side_axis, spin_axis))
+            .map(|&(body, centre)| pins(body, centre, shape))
             .collect::<String>(),
     )
 }
@@ -92,15 +85,16 @@ const AXIS_PINS: [f64; 7] = [-0.5, -0.25, 0.0, 0.25, 0.5, 0.75, 1.0];
 /// bodies' slide and turn, which the segments' small tangential forces drive, was then ADR's
 /// slowest mode and the static solver's worst, up to 7.6 times the ADR iterations on the
 /// rigid plane (docs/VALIDATION.md, "A mesh pressed on its copy").
-fn pins(
-    body: &str,
-    centre: [f64; 3],
-    shape: &MeshShape,
-    lateral: &str,
-    side_axis: usize,
-    spin_axis: usize,
-) -> String {
+fn pins(body: &str, centre: [f64; 3], shape: &MeshShape) -> String {
     let press = shape.press;
+    let name = ["x", "y", "z"];
+    // The two directions across the axis.
+    let (side_axis, spin_axis) = ((press + 1) % 3, (press + 2) % 3);
+    let lateral = format!(
+        "\"{}\", \"{}\"",
+        name[side_axis.min(spin_axis)],
+        name[side_axis.max(spin_axis)]
+    );
     // Away from the contact point (at `shape.lowest` along the axis): the body's centre lies
     // above it, the copy's below.
     let away = if centre[press] > shape.lowest {
@@ -108,7 +102,6 @@ fn pins(
     } else {
         -1.0
     };
-    let name = ["x", "y", "z"];
     let mut out = format!(
         "\n# \"{body}\": pins where the axisymmetric solution is at rest hold it from sliding, tilting\n# and spinning; the loads balance, so they carry next to nothing. On its axis, across it:\n"
     );
@@ -121,7 +114,7 @@ fn pins(
     for t in AXIS_PINS {
         let mut p = centre;
         p[press] += away * t * shape.radius;
-        out += &pin(p, lateral);
+        out += &pin(p, &lateral);
     }
     out += "\n# Round its centre, half a radius out, across their radius:\n";
     for (axis, across) in [(side_axis, spin_axis), (spin_axis, side_axis)] {
