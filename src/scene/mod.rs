@@ -17,6 +17,7 @@ use serde::{Deserialize, Serialize};
 mod check;
 mod check_fracture;
 mod check_path;
+mod check_solver;
 mod material;
 pub use check_path::MAX_FRICTION;
 pub use material::{
