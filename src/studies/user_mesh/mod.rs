@@ -38,11 +38,13 @@ use crate::studies::comparison::{run_case, ValidationRow};
 use crate::studies::scenarios::{
     Problem, Reference, Set, ValidationCase, DENSITY, POISSON, YOUNGS,
 };
-use crate::studies::validate::table_with_peak;
 
 mod partner;
+mod report;
 mod shape;
 use partner::copy_partner;
+use report::rows_named;
+pub use report::MeshValidation;
 pub use shape::{measure, MeshShape, SHAPE_TOLERANCE};
 
 /// Hertz contact radius (sphere) or half-width (roller) over the body's radius by default, as
@@ -61,90 +63,6 @@ pub const REMEDY_MAX_PARTICLES: usize = 400_000;
 /// ([`crate::contact::estimate::PENALTY_TARGET`]); the 100 R of the other validation scenes let
 /// it sink 1.4 % there, which widened the contact by 1.5 points (docs/VALIDATION.md).
 const PENALTY_RATIO: f64 = 1e4;
-
-/// What `validate --mesh` reports.
-#[derive(Clone, Debug, Serialize)]
-pub struct MeshValidation {
-    pub mesh: PathBuf,
-    pub format: String,
-    pub shape: MeshShape,
-    /// Hertz contact radius or half-width, m.
-    pub theory_contact_radius: f64,
-    /// The particle spacing Δ at the contact, m: the run's grid spacing, or on a mesh graded in
-    /// size the local spacing there (the median over the particles within `a` of the contact
-    /// point or line, [`crate::case::spacing`]).
-    pub spacing: f64,
-    /// `a/Δ`: particle spacings across the contact radius.
-    pub contact_spacings: f64,
-    pub warnings: Vec<String>,
-    /// The scene that was run.
-    pub scene: PathBuf,
-    /// The mesh as it is, then, where [`Remedy`] ran, the finer particles.
-    pub rows: Vec<ValidationRow>,
-    /// The second row's particles, where the contact was poorly resolved on the mesh's own.
-    pub remedy: Option<Remedy>,
-}
-
-impl MeshValidation {
-    /// The printed report: the shape, `a/Δ`, the table with the peak column.
-    pub fn to_text(&self) -> String {
-        let s = &self.shape;
-        let mut out = format!(
-            "{} ({}): {}, R = {:.6} m, centre [{:.4}, {:.4}, {:.4}]",
-            self.mesh.display(),
-            self.format,
-            s.shape,
-            s.radius,
-            s.centre[0],
-            s.centre[1],
-            s.centre[2]
-        );
-        if let (Some(axis), Some(ends)) = (&s.axis, s.ends) {
-            out.push_str(&format!(
-                ", axis {axis} from {:.4} to {:.4} (symmetry planes: plane strain)",
-                ends[0], ends[1]
-            ));
-        }
-        out.push_str(&format!(
-            "; boundary nodes within {:.2} % of R; pressed along {}\n",
-            100.0 * s.max_deviation,
-            s.pressed_along
-        ));
-        out.push_str(&format!(
-            "a/Δ = {:.2}: the Hertz contact {} a = {:.4} m spans {:.1} particle spacings (Δ = {:.4} m)\n",
-            self.contact_spacings,
-            if s.axis.is_some() { "half-width" } else { "radius" },
-            self.theory_contact_radius,
-            self.contact_spacings,
-            self.spacing
-        ));
-        for w in &self.warnings {
-            out.push_str(&format!("warning: {w}\n"));
-        }
-        out.push('\n');
-        out.push_str(&table_with_peak(&self.rows));
-        if let Some(r) = self.rows.first() {
-            out.push_str(&format!(
-                "\nScene: {}\nFrames: {}\nChart: {}\n",
-                self.scene.display(),
-                r.output_pvd.display(),
-                r.chart.display()
-            ));
-        }
-        if let (Some(m), Some(r)) = (&self.remedy, self.rows.get(1)) {
-            out.push_str(&format!(
-                "\nSecond row: the same mesh with `{}` on the body (a/Δ = {:.2}, Δ = {:.4} m): put that key in your scene's [[body]] for these figures.\nScene: {}\nFrames: {}\nChart: {}\n",
-                m.key,
-                m.contact_spacings,
-                m.spacing,
-                m.scene.display(),
-                r.output_pvd.display(),
-                r.chart.display()
-            ));
-        }
-        out
-    }
-}
 
 /// A TOML number that always reads back as a float (`0.0`, `1e-5`, `-1.0`).
 fn num(x: f64) -> String {
@@ -262,6 +180,9 @@ pub enum Partner {
 pub struct Remedy {
     /// The scene key that gives it: `refine = 1` or `second_order = "all-nodes"`.
     pub key: String,
+    /// The first of its rows in the table (0-based): 1 on a rigid plane, 2 pressed on a copy
+    /// (a row per body).
+    pub first_row: usize,
     /// The particle spacing at the contact with it, m.
     pub spacing: f64,
     /// `a/Δ` with it.
@@ -545,6 +466,11 @@ pub fn validate_mesh(
     drop(particles);
     let mut warnings = Vec::new();
     let poor = contact_spacings < MIN_CONTACT_SPACINGS;
+    // Rows per run: one, or one per body pressed on its copy.
+    let bodies = match body.partner {
+        Partner::Plane => 1,
+        Partner::Copy => 2,
+    };
     let finer = finer.filter(|_| poor && 8 * count <= REMEDY_MAX_PARTICLES);
     if poor {
         let skin = if body.skin_correction {
@@ -558,7 +484,12 @@ pub fn validate_mesh(
         let key = finer.as_ref().map(remedy_key);
         if let Some(key) = key {
             warnings.push(format!(
-                "the second row runs the same mesh with `{key}` on the body: about twice the spacings across the contact, at about seven times the particles"
+                "{} the same mesh with `{key}` on the body: about twice the spacings across the contact, at about seven times the particles",
+                if bodies == 1 {
+                    "the second row runs".to_string()
+                } else {
+                    format!("{} run", rows_named(bodies, 2 * bodies, false))
+                }
             ));
         } else if corners_of_second_order {
             warnings.push(
@@ -604,8 +535,9 @@ pub fn validate_mesh(
             quiet,
         ) {
             Ok((more, m)) => {
+                let first_row = rows.len();
                 rows.extend(more);
-                remedy = Some(m);
+                remedy = Some(Remedy { first_row, ..m });
             }
             Err(e) => warnings.push(format!(
                 "the second row (`{}`) did not run: {e}",
@@ -669,14 +601,21 @@ fn run_finer(
         SecondOrder::AllNodes => "all nodes".to_string(),
         SecondOrder::Corners => key.clone(),
     };
+    // Pressed on its copy, a row per body: the bodies keep their names, the set says which run.
+    let several = rows.len() > 1;
     for row in &mut rows {
-        row.variant = label.clone();
+        if several {
+            row.set = "finer".into();
+        } else {
+            row.variant = label.clone();
+        }
     }
     let scene = scene_path(folder, &case);
     Ok((
         rows,
         Remedy {
             key,
+            first_row: 1,
             spacing,
             contact_spacings: a / spacing,
             scene,
