@@ -149,7 +149,8 @@ fn convert_writes_a_case_folder() {
     for f in ["case.toml", "particles.vtu", "segments.vtu"] {
         assert!(dir.join(f).exists(), "{f}");
     }
-    // The scene skeleton runs as it is.
+    // The scene skeleton runs as it is: one solid, by the static solver
+    // (docs/PERFORMANCE.md, "The cases `convert` writes").
     let run = exe()
         .args(["run", "--quiet", "--json"])
         .arg(dir.join("case.toml"))
@@ -157,6 +158,7 @@ fn convert_writes_a_case_folder() {
         .expect("runs");
     let s = json_of(&run);
     assert_eq!(s["converged"], true, "{s}");
+    assert_eq!(s["solver"]["solver"], "static", "{s}");
     assert!(
         s["force_balance_error"].as_f64().expect("balance") < 1e-3,
         "{s}"

@@ -20,6 +20,9 @@ use crate::output::vtk::{write_keeping_edits, write_vtu, CellSpec, Field};
 use crate::scene::PenaltyLaw;
 
 mod parts;
+mod pins;
+
+use pins::{pins_and_pieces, solids, solver_block};
 
 /// Seconds spent per stage.
 #[derive(Clone, Copy, Debug, Default, Serialize)]
@@ -547,7 +550,9 @@ density = 1000.0              # kg/m3
         "radius = {r:e}     # penalty R of K = 4E*√R/3: a particle at the expected peak sinks at most {:.1} % of the contact's depth\n",
         100.0 * PENALTY_TARGET
     ));
-    let (bodies, rest) = match parts::parts(case) {
+    let parts = parts::parts(case);
+    let solver = solver_block(parts.is_none() && solids(case).1.len() < 2);
+    let (bodies, rest) = match parts {
         Some(parts) => (
             parts
                 .iter()
@@ -588,11 +593,7 @@ master = "plane"
 # Run it with:  pdcontact run {case_path}
 # Every key is documented in docs/guide/scene.md. Units are SI: metres, newtons, pascals, kg/m³.
 
-[solver]
-kind = "adr"              # "adr" (quasi-static, adaptive dynamic relaxation) or "explicit"
-tolerance = 1e-4          # ADR: out-of-balance force relative to the applied load
-max_iterations = 100000   # ADR: give up (exit 1) after this many iterations
-
+{solver}
 [output]
 folder = "out"            # relative to this file
 every = 500               # write a .vtu every N iterations (and the last one)
@@ -608,6 +609,7 @@ motion = "fixed"
 
 {rest}"#,
         mesh_name = mesh_path.display(),
+        solver = solver,
         // Quoted where the shell would split it, so that the line can be pasted.
         case_path = {
             let p = out.join("case.toml").display().to_string();
@@ -621,105 +623,6 @@ motion = "fixed"
         cy = centre[1],
         pz = lo[2],
     )
-}
-
-/// The pins that hold the body sideways on the frictionless plane, three to each piece (the
-/// centre of its bounding box, the top of its vertical axis, a point off the axis held across
-/// it), and where the mesh is several solids that share no node, the contact that keeps its
-/// pieces apart ([`crate::contact::ContactPass::pieces`]).
-fn pins_and_pieces(case: &PdCase, skeleton: &SkeletonLoad) -> String {
-    let n = case.particles.len();
-    let (label, sizes) = case.bonds.components(|_| true);
-    // Pieces of a few particles are particles a coarse horizon left without a bond.
-    let solid: Vec<usize> = (0..sizes.len()).filter(|&k| sizes[k] >= 4).collect();
-    let boxes: Vec<([f64; 3], [f64; 3])> = if solid.len() < 2 {
-        vec![case.mesh.bbox().unwrap_or(([0.0; 3], [1.0; 3]))]
-    } else {
-        solid
-            .iter()
-            .map(|&k| {
-                let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-                for x in (0..n)
-                    .filter(|&i| label[i] as usize == k)
-                    .map(|i| case.particles.position[i])
-                {
-                    for d in 0..3 {
-                        lo[d] = lo[d].min(x[d]);
-                        hi[d] = hi[d].max(x[d]);
-                    }
-                }
-                (lo, hi)
-            })
-            .collect()
-    };
-    let mut out = String::from(PINS_INTRO);
-    for (k, (lo, hi)) in boxes.iter().enumerate() {
-        let of = if boxes.len() > 1 {
-            format!(" of piece {}", k + 1)
-        } else {
-            String::new()
-        };
-        if k > 0 {
-            out.push('\n');
-        }
-        out.push_str(&pins("part", lo, hi, &of));
-    }
-    if boxes.len() > 1 {
-        out.push_str(&format!(
-            r#"
-# The mesh is {} solids that share no node: one body whose pieces no bond joins. This keeps
-# them apart, each piece's surface particles against the other pieces' faces; without it they
-# would pass through each other (docs/guide/scene.md, "Contact"). To give a piece a material of
-# its own, make it a [[body]] of its own: this mesh with elements = "NAME" of its set.
-[[contact]]
-slave = "part"
-master = "part"
-{}"#,
-            boxes.len(),
-            skeleton
-                .penalty_radius
-                .map_or(String::new(), |r| format!("radius = {r:e}\n"))
-        ));
-    }
-    out
-}
-
-/// What the pins are for, above them.
-const PINS_INTRO: &str =
-    "# A frictionless plane holds the body along its normal only: these pins (each the particle
-# nearest its point, held across the load) stop it sliding, rolling and spinning. The load and
-# the contact balance, so they carry next to nothing; remove them where supports of your own
-# hold the body sideways (docs/guide/scene.md, \"Loads, supports, symmetry\").
-";
-
-/// The three pins of `body` over the box `lo`-`hi` (`of` names the piece in their comments).
-fn pins(body: &str, lo: &[f64; 3], hi: &[f64; 3], of: &str) -> String {
-    let c: Vec<f64> = (0..3).map(|d| 0.5 * (hi[d] + lo[d])).collect();
-    // A pin takes the particle nearest its point: four digits place it.
-    let (cx, cy, cz) = (pin(c[0]), pin(c[1]), pin(c[2]));
-    let (tz, sx) = (pin(hi[2]), pin(c[0] + 0.25 * (hi[0] - lo[0])));
-    format!(
-        r#"[[constraint]]
-body = "{body}"
-nearest = [{cx}, {cy}, {cz}]   # the centre of its bounding box{of}
-fix = ["x", "y"]
-
-[[constraint]]
-body = "{body}"
-nearest = [{cx}, {cy}, {tz}]   # the top of its vertical axis{of}: with the centre, no rolling
-fix = ["x", "y"]
-
-[[constraint]]
-body = "{body}"
-nearest = [{sx}, {cy}, {cz}]   # off the axis{of}, held across it: no spinning about it
-fix = ["y"]
-"#
-    )
-}
-
-/// A pin's coordinate to four significant digits, as TOML reads it.
-fn pin(x: f64) -> String {
-    format!("{x:.3e}")
 }
 
 /// One comment line per named set: name, kind, node count.

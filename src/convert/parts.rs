@@ -107,12 +107,12 @@ force = [0.0, 0.0, {f:e}]  # N: its share by volume
         }
     }
     out.push('\n');
-    out.push_str(super::PINS_INTRO);
+    out.push_str(super::pins::PINS_INTRO);
     for (k, p) in parts.iter().enumerate() {
         if k > 0 {
             out.push('\n');
         }
-        out.push_str(&super::pins(
+        out.push_str(&super::pins::pins(
             &p.name,
             &p.lo,
             &p.hi,
