@@ -28,7 +28,7 @@ use std::path::Path;
 pub use error::{describe_found, ImportError, Location};
 pub use faces::{boundary_faces, face_corners, BoundaryFace, FaceSet};
 pub use mesh::{ElementKind, ElementRef, Format, Mesh, NamedSet, NodeIndex, SetKind, MISSING_NODE};
-pub use quality::{quality_warnings, solid_pieces, NO_PIECE};
+pub use quality::{is_pieces_warning, quality_warnings, solid_pieces, NO_PIECE};
 pub use refine::{refine_uniform, RefineRefusal};
 pub use split::{has_splittable, split_second_order};
 pub use summary::MeshSummary;

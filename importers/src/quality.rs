@@ -136,6 +136,15 @@ pub fn solid_pieces(mesh: &Mesh) -> (Vec<u32>, usize) {
 /// The piece of a node that no solid element uses ([`solid_pieces`]).
 pub const NO_PIECE: u32 = u32::MAX;
 
+/// How the warning of solids in pieces that share no node starts ([`is_pieces_warning`]).
+const PIECES: &str = "the solid elements form ";
+
+/// Whether `warning` is the one of solids in pieces that share no node: a run says what it
+/// makes of a body's pieces itself, once it knows its bonds and its contacts.
+pub fn is_pieces_warning(warning: &str) -> bool {
+    warning.starts_with(PIECES)
+}
+
 /// Solid elements in pieces that share no node.
 fn disconnected_pieces(mesh: &Mesh) -> Option<String> {
     let (label, count) = solid_pieces(mesh);
@@ -162,7 +171,7 @@ fn disconnected_pieces(mesh: &Mesh) -> Option<String> {
         .map(|(n, id)| format!("{n} elements from element {id}"))
         .collect();
     Some(format!(
-        "the solid elements form {} pieces that share no node ({}{}): one body in pieces, which no contact keeps apart unless a [[contact]] names the body as its own slave and master (pdcontact convert writes one)",
+        "{PIECES}{} pieces that share no node ({}{}): one body in pieces, which no contact keeps apart unless a [[contact]] names the body as its own slave and master (pdcontact convert writes one)",
         sizes.len(),
         shown.join("; "),
         if sizes.len() > LISTED { ", …" } else { "" }

@@ -346,7 +346,9 @@ pub fn check_scene_on(
 ) -> Result<(Model, Vec<String>, Vec<ContactResolution>)> {
     let model = Model::from_scene_on(scene, comm)?;
     checks::check_model(scene, &model)?;
-    // What the importers and the quality checks found in the meshes, body by body.
+    // What the importers and the quality checks found in the meshes, body by body; a body's
+    // pieces as `piece_warnings` below sees them, with its bonds and its contacts (the mesh's
+    // own warning said a contact was missing where the scene has one).
     let mut warnings: Vec<String> = model
         .bodies
         .iter()
@@ -356,6 +358,7 @@ pub fn check_scene_on(
                 .mesh
                 .warnings
                 .iter()
+                .filter(|w| !crate::importers::is_pieces_warning(w))
                 .map(move |w| format!("body \"{}\": {w}", pd.name))
         })
         .collect();
