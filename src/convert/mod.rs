@@ -551,7 +551,9 @@ density = 1000.0              # kg/m3
         100.0 * PENALTY_TARGET
     ));
     let parts = parts::parts(case);
-    let solver = solver_block(parts.is_none() && solids(case).1.len() < 2);
+    // The pieces no bond joins, found once for the solver and the pins.
+    let pieces = solids(case);
+    let solver = solver_block(parts.is_none() && pieces.1.len() < 2);
     let (bodies, rest) = match parts {
         Some(parts) => (
             parts
@@ -584,7 +586,7 @@ master = "plane"
 {pins}"#,
                 fz = rounded(-skeleton.force),
                 reason = skeleton.reason,
-                pins = pins_and_pieces(case, skeleton),
+                pins = pins_and_pieces(case, skeleton, &pieces),
             ),
         ),
     };

@@ -8,9 +8,13 @@ use crate::case::PdCase;
 /// centre of its bounding box, the top of its vertical axis, a point off the axis held across
 /// it), and where the mesh is several solids that share no node, the contact that keeps its
 /// pieces apart ([`crate::contact::ContactPass::pieces`]).
-pub(super) fn pins_and_pieces(case: &PdCase, skeleton: &SkeletonLoad) -> String {
+/// `label` and `solid` are [`solids`]'s.
+pub(super) fn pins_and_pieces(
+    case: &PdCase,
+    skeleton: &SkeletonLoad,
+    (label, solid): &(Vec<u32>, Vec<usize>),
+) -> String {
     let n = case.particles.len();
-    let (label, solid) = solids(case);
     let boxes: Vec<([f64; 3], [f64; 3])> = if solid.len() < 2 {
         vec![case.mesh.bbox().unwrap_or(([0.0; 3], [1.0; 3]))]
     } else {

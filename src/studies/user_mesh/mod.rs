@@ -180,9 +180,6 @@ pub enum Partner {
 pub struct Remedy {
     /// The scene key that gives it: `refine = 1` or `second_order = "all-nodes"`.
     pub key: String,
-    /// The first of its rows in the table (0-based): 1 on a rigid plane, 2 pressed on a copy
-    /// (a row per body).
-    pub first_row: usize,
     /// The particle spacing at the contact with it, m.
     pub spacing: f64,
     /// `a/Δ` with it.
@@ -535,9 +532,8 @@ pub fn validate_mesh(
             quiet,
         ) {
             Ok((more, m)) => {
-                let first_row = rows.len();
                 rows.extend(more);
-                remedy = Some(Remedy { first_row, ..m });
+                remedy = Some(m);
             }
             Err(e) => warnings.push(format!(
                 "the second row (`{}`) did not run: {e}",
@@ -615,7 +611,6 @@ fn run_finer(
         rows,
         Remedy {
             key,
-            first_row: 1,
             spacing,
             contact_spacings: a / spacing,
             scene,

@@ -77,10 +77,12 @@ impl MeshValidation {
                 r.chart.display()
             ));
         }
-        if let (Some(m), Some(r)) = (&self.remedy, self.rows.get(m_first(&self.remedy))) {
+        // The finer run has as many rows as the mesh's own (one, or one per body on its copy).
+        let first = self.rows.len() / 2;
+        if let (Some(m), Some(r)) = (&self.remedy, self.rows.get(first)) {
             out.push_str(&format!(
                 "\n{}: the same mesh with `{}` on the body (a/Δ = {:.2}, Δ = {:.4} m): put that key in your scene's [[body]] for these figures.\nScene: {}\nFrames: {}\nChart: {}\n",
-                rows_named(m.first_row, self.rows.len(), true),
+                rows_named(first, self.rows.len(), true),
                 m.key,
                 m.contact_spacings,
                 m.spacing,
@@ -91,11 +93,6 @@ impl MeshValidation {
         }
         out
     }
-}
-
-/// The first row of `remedy` (1 without one: no row is looked up then).
-fn m_first(remedy: &Option<Remedy>) -> usize {
-    remedy.as_ref().map_or(1, |m| m.first_row)
 }
 
 /// "second row" for row 1 of 2, "rows 3 and 4" for rows 2-3 of 4 (0-based `first`, `len`
