@@ -70,11 +70,12 @@ pub(super) fn scale_warnings(
             )
         } else {
             format!(
-                "the Hertz estimate puts the contact's strain p0 (1 − ν²)/E at {:.0} % (contact {} {} m, curvature radius {} m)",
+                "the Hertz estimate puts the contact's strain p0 (1 − ν²)/E at {:.0} % (contact {} {} m, relative radius of curvature R* {} m)",
                 100.0 * eps,
                 e.what(),
                 short(e.radius),
-                short(1.0 / e.slave_curvature)
+                // R* of the pair, not the slave's own: a flat slave under a ball has none.
+                short(e.curvature_radius())
             )
         };
         let youngs = pd.material.youngs;

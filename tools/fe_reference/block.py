@@ -1,15 +1,16 @@
 """A sphere pressed into a deformable block of the same material: the CalculiX C3D10 reference.
 
     PYTHONPATH=tools python3 -m fe_reference.block L [--d D] [--h H] [--fine F] [--hmax HS]
-        [--block-hmax HB] [--growth G] [--a A] [--penalty K] [--rematch N] [--threads N]
-        [--workdir DIR [--reuse]] [--json PATH] [--profiles]
+        [--block-hmax HB] [--growth G] [--a A] [--penalty K] [--sphere-youngs E1]
+        [--rematch N] [--threads N] [--workdir DIR [--reuse]] [--json PATH] [--profiles]
 
 The geometry of tools/gmsh_sphere_block.py (issue 40: how large must a block be to stand for
 a half-space): quarter models, symmetry planes x = 0 and y = 0 on both bodies; the upper body
 the quarter x, y >= 0 of the sphere R = 1 m centred at (0, 0, R); the lower the quarter block
 0 <= x, y <= L/2, -D <= z <= 0 (D = L unless given), held u_z = 0 on its bottom z = -D (the
 symmetry plane pdcontact's scene puts there: a frictionless support). E = 1 GPa, nu = 0.25,
-small strain, both bodies. Load: a uniform body force on the sphere totalling P/4 (*DLOAD
+small strain, both bodies (`--sphere-youngs 1e12`: the sphere 1,000 times stiffer, a rigid
+ball pressed into the block, E* = E/(1 - nu^2) to 0.1 %). Load: a uniform body force on the sphere totalling P/4 (*DLOAD
 GRAV), P such that Hertz's contact radius for a sphere on a half-space of the same material is
 a = A (METHOD.md section 7: R* = R, 1/E* = 2(1 - nu^2)/E); nothing but the contact holds the
 sphere along z. C3D10 on both, graded toward the contact point (0, 0, 0) as the sphere
@@ -32,6 +33,7 @@ import math
 import os
 import tempfile
 import time
+from dataclasses import dataclass
 
 import numpy as np
 import gmsh
@@ -41,12 +43,20 @@ from .mesh import TET10_EDGES, _midside_order, _nodes_and, _size_field, _vertex_
 from .problem import Problem
 
 
+@dataclass(frozen=True)
 class SphereOnBlock(Problem):
-    """Hertz for a sphere on a half-space of the same material: E* = E / (2 (1 - nu^2))."""
+    """Hertz for a sphere on a half-space: E* = E / (2 (1 - nu^2)) of the same material, or
+    1/E* = (1 - nu^2)(1/E_sphere + 1/E) where the sphere's modulus is given."""
+
+    sphere_youngs: float = 0.0   # the sphere's E, Pa (0: the block's)
+
+    @property
+    def youngs_sphere(self) -> float:
+        return self.sphere_youngs if self.sphere_youngs > 0.0 else self.youngs
 
     @property
     def e_star(self) -> float:
-        return self.youngs / (2.0 * (1.0 - self.poisson ** 2))
+        return 1.0 / ((1.0 - self.poisson ** 2) * (1.0 / self.youngs_sphere + 1.0 / self.youngs))
 
 
 def block_mesh(half, depth, h, hmax, fine, growth):
@@ -116,7 +126,9 @@ def write_deck(path, xs, cs, xb, cb, sfaces, bfaces, problem, depth, *, penalty,
             w(f"{len(cs) + e + 1}, S{label}\n")
         w("*MATERIAL, NAME=ELASTIC\n*ELASTIC\n")
         w(f"{problem.youngs:.10g}, {problem.poisson:.10g}\n*DENSITY\n1.\n")
-        w("*SOLID SECTION, ELSET=SPHERE, MATERIAL=ELASTIC\n")
+        w("*MATERIAL, NAME=SPHEREMAT\n*ELASTIC\n")
+        w(f"{problem.youngs_sphere:.10g}, {problem.poisson:.10g}\n*DENSITY\n1.\n")
+        w("*SOLID SECTION, ELSET=SPHERE, MATERIAL=SPHEREMAT\n")
         w("*SOLID SECTION, ELSET=BLOCK, MATERIAL=ELASTIC\n")
         w("*BOUNDARY\nNSYMX, 1, 1\nNSYMY, 2, 2\nNBOTTOM, 3, 3\n")
         w("*SURFACE INTERACTION, NAME=SI\n*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n")
@@ -135,7 +147,7 @@ def write_deck(path, xs, cs, xb, cb, sfaces, bfaces, problem, depth, *, penalty,
     return weight
 
 
-def body_figures(x, conn, patch, disp, faces, problem, share, sign, weight=None):
+def body_figures(x, conn, patch, disp, faces, problem, share, sign, weight=None, youngs=None):
     """Contact pressures on the faces' nodes from the internal forces of the elements around
     them; returns the figures and the (r, p) samples."""
     inpatch = np.zeros(len(x), dtype=bool)
@@ -143,7 +155,7 @@ def body_figures(x, conn, patch, disp, faces, problem, share, sign, weight=None)
     elements = conn[inpatch[conn].all(axis=1)]
     u = np.zeros_like(x)
     u[patch] = disp
-    f = forces.internal_forces(x, elements, u, problem.youngs, problem.poisson)
+    f = forces.internal_forces(x, elements, u, youngs or problem.youngs, problem.poisson)
     nodes, area, _, touching = surface.face_matrices(x, faces)
     force = sign * f[nodes, 2]
     if weight is not None:
@@ -190,7 +202,8 @@ def run_block(l, d, h, fine, hmax_sphere, hmax_block, growth, problem, workdir, 
     us = np.array([disp[int(i)] for i in patch_s])
     ub = np.array([disp[int(i) + ns] for i in patch_b])
     bottom = dat[("total force", "NBOTTOM")][0][2]
-    upper, prof_u = body_figures(xs, cs, patch_s, us, sfaces, problem, 0.25, 1.0, weight)
+    upper, prof_u = body_figures(xs, cs, patch_s, us, sfaces, problem, 0.25, 1.0, weight,
+                                 problem.youngs_sphere)
     lower, prof_l = body_figures(xb, cb, patch_b, ub, bfaces, problem, 0.25, -1.0)
     return dict(l=l, d=d, h=h, h_over_a=h / a, fine=fine, hmax_sphere=hmax_sphere,
                 hmax_block=hmax_block, growth=growth,
@@ -214,6 +227,9 @@ def main():
     ap.add_argument("--growth", type=float, default=0.3)
     ap.add_argument("--a", type=float, default=0.3, help="Hertz contact radius (m)")
     ap.add_argument("--penalty", type=float, default=1e14, help="contact stiffness, Pa/m")
+    ap.add_argument("--sphere-youngs", type=float, default=0.0,
+                    help="the sphere's Young's modulus (Pa; default the block's): 1e12 stands "
+                    "for a rigid ball pressed into the block")
     ap.add_argument("--rematch", type=int, default=2)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--workdir", help="keep CalculiX's files here (default: a temporary one)")
@@ -222,7 +238,7 @@ def main():
                     "CalculiX left there for the same case instead of running it again")
     ap.add_argument("--profiles", action="store_true", help="also print p(r) on each body")
     o = ap.parse_args()
-    problem = SphereOnBlock(contact_radius=o.a)
+    problem = SphereOnBlock(contact_radius=o.a, sphere_youngs=o.sphere_youngs)
     d = o.d if o.d is not None else o.l
     tmp = None
     if o.workdir:
