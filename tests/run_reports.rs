@@ -113,6 +113,59 @@ fn run_check_names_the_likely_unit_slip() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A flat block pressed by a rigid ball far beyond small strain: the warning gives the pair's
+/// radius of relative curvature R* (the ball's, 1 m), not the flat slave's own (infinite).
+#[test]
+fn the_strain_warning_gives_the_pairs_curvature_not_the_flat_slaves() {
+    let dir = temp_dir("flat");
+    // Hertz at a = 0.3 m under a ball of R = 1 m on a block of E = 1 GPa: strain 19 %.
+    let e_star = 1e9 / (1.0 - 0.0625);
+    let load = 4.0 * e_star * 0.3f64.powi(3) / 3.0;
+    let scene = format!(
+        r#"[solver]
+kind = "adr"
+
+[[body]]
+name = "block"
+generator = {{ shape = "box", min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, 0.0], spacing = 0.2 }}
+kinematics = "small"
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+
+[[body]]
+name = "ball"
+kind = "rigid"
+generator = {{ shape = "sphere", radius = 1.0, spacing = 0.1, center = [0.0, 0.0, 1.0] }}
+motion = "free"
+free_axis = [0.0, 0.0, 1.0]
+
+[[load]]
+body = "ball"
+force = [0.0, 0.0, -{load:e}]
+
+[[constraint]]
+body = "block"
+set = "bottom"
+fix = ["x", "y", "z"]
+
+[[contact]]
+slave = "block"
+master = "ball"
+"#
+    );
+    let warnings = check_warnings(&dir, "flat.toml", &scene);
+    let r_star: f64 = warnings
+        .split("relative radius of curvature R* ")
+        .nth(1)
+        .and_then(|t| t.split(" m").next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no R* in the strain warning: {warnings}"));
+    assert!((r_star - 1.0).abs() < 0.05, "R* = {r_star}: {warnings}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn a_body_that_moved_across_its_load_is_named() {
     let scene = Scene::parse(
