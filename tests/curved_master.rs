@@ -12,6 +12,9 @@
 //! plane's is Hertz's: centre +6.2 % against +0.05 %, fitted radius −1.8 % against −0.9 %.
 //! pdcontact must see the same turn: a build that pushed every contact along the axis read the
 //! ball's pressure flatter than the plane's on the finer meshes of that section.
+//!
+//! And the other way round: a flat block the slave of a rigid ball where Hertz holds
+//! (a/R = 0.1), its pressure Hertz's within the bounds on gmsh's graded tet4.
 
 mod common;
 
