@@ -10,8 +10,9 @@ the quarter x, y >= 0 of the sphere R = 1 m centred at (0, 0, R); the lower the 
 0 <= x, y <= L/2, -D <= z <= 0 (D = L unless given), held u_z = 0 on its bottom z = -D (the
 symmetry plane pdcontact's scene puts there: a frictionless support). E = 1 GPa, nu = 0.25,
 small strain, both bodies (`--sphere-youngs 1e12`: the sphere 1,000 times stiffer, a rigid
-ball pressed into the block, E* = E/(1 - nu^2) to 0.1 %). Load: a uniform body force on the sphere totalling P/4 (*DLOAD
-GRAV), P such that Hertz's contact radius for a sphere on a half-space of the same material is
+ball pressed into the block, E* = E/(1 - nu^2) to 0.1 %; the sphere's own figures then mean
+little, its strains a thousandth of the block's). Load: a uniform body force on the sphere
+totalling P/4 (*DLOAD GRAV), P such that Hertz's contact radius for a sphere on a half-space of the same material is
 a = A (METHOD.md section 7: R* = R, 1/E* = 2(1 - nu^2)/E); nothing but the contact holds the
 sphere along z. C3D10 on both, graded toward the contact point (0, 0, 0) as the sphere
 reference grades its mesh (mesh.quarter; size H within F of the point, slope G beyond, up to
