@@ -12,9 +12,9 @@ symmetry plane pdcontact's scene puts there: a frictionless support). E = 1 GPa,
 small strain, both bodies (`--sphere-youngs 1e12`: the sphere 1,000 times stiffer, a rigid
 ball pressed into the block, E* = E/(1 - nu^2) to 0.1 %; the sphere's own figures then mean
 little, its strains a thousandth of the block's). Load: a uniform body force on the sphere
-totalling P/4 (*DLOAD GRAV), P such that Hertz's contact radius for a sphere on a half-space of the same material is
-a = A (METHOD.md section 7: R* = R, 1/E* = 2(1 - nu^2)/E); nothing but the contact holds the
-sphere along z. C3D10 on both, graded toward the contact point (0, 0, 0) as the sphere
+totalling P/4 (*DLOAD GRAV), P such that Hertz's contact radius for the sphere on a
+half-space is a = A (METHOD.md section 7: R* = R, 1/E* = (1 - nu^2)(1/E_sphere + 1/E));
+nothing but the contact holds the sphere along z. C3D10 on both, graded toward the contact point (0, 0, 0) as the sphere
 reference grades its mesh (mesh.quarter; size H within F of the point, slope G beyond, up to
 HS on the sphere and HB in the block). Contact: `*CONTACT PAIR, TYPE=SURFACE TO SURFACE`,
 the sphere's cap r < 2a the slave, the block's top faces within 3a of the axis the master,
