@@ -34,6 +34,82 @@ fn mesh(name: &str) -> String {
     )
 }
 
+/// The deformable body of `slave_mesh` (a quarter by the symmetry planes x = 0, y = 0 and
+/// z = `bottom`) pressed by a rigid `master` surface (its `[[body]]` keys), which carries
+/// `load` on the whole body (a quarter here) and is free along z; penalty `radius`. Runs it,
+/// checks that it settles with no missed contact and that the slave carries the load, and
+/// returns the slave's contact patch.
+fn pressed(
+    name: &str,
+    master: &str,
+    slave_mesh: &str,
+    bottom: f64,
+    radius: f64,
+    load: f64,
+) -> pdcontact::output::analysis::ContactPatch {
+    let text = format!(
+        r#"[solver]
+kind = "adr"
+tolerance = 1e-4
+max_iterations = 20000
+[output]
+every = 1000000
+[[body]]
+name = "ball"
+kind = "rigid"
+{master}
+motion = "free"
+free_axis = [0.0, 0.0, 1.0]
+[[body]]
+name = "slave"
+mesh = {slave}
+kinematics = "small"
+[body.material]
+youngs_modulus = {YOUNGS:e}
+poisson_ratio = {POISSON}
+density = 1000.0
+[[load]]
+body = "ball"
+force = [0.0, 0.0, {quarter:e}]
+[[contact]]
+slave = "slave"
+master = "ball"
+radius = {radius}
+[[symmetry]]
+body = "slave"
+axis = "x"
+[[symmetry]]
+body = "slave"
+axis = "y"
+[[symmetry]]
+body = "slave"
+axis = "z"
+at = {bottom}
+keep = "positive"
+"#,
+        slave = mesh(slave_mesh),
+        quarter = -load / 4.0,
+    );
+    let (model, summary) = common::try_run_text(&text, &format!("curved-{name}"))
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert!(summary.converged, "{name}: residual {}", summary.residual);
+    assert_eq!(summary.missed_contacts, 0, "{name}");
+    let slave = model
+        .bodies
+        .iter()
+        .position(|b| b.as_pd().is_some())
+        .expect("the slave");
+    let patch = contact_patch(&model, slave, None).expect("a contact patch");
+    // The slave carries the load.
+    assert!(
+        (patch.force.z.abs() / (load / 4.0) - 1.0).abs() < 1e-3,
+        "{name}: contact force {} against {}",
+        patch.force.z,
+        load / 4.0
+    );
+    patch
+}
+
 /// (fitted peak / p0 − 1, fitted radius / a − 1, MRE) of the sphere pressed by `master`
 /// (`None`: the plane; `Some(RB)`: the stored ball).
 fn pressed_by(ball: Option<f64>) -> (f64, f64, f64) {
@@ -52,65 +128,13 @@ fn pressed_by(ball: Option<f64>) -> (f64, f64, f64) {
     let e_star = YOUNGS / (1.0 - POISSON * POISSON);
     // Hertz: a³ = 3PR*/(4E*).
     let load = 4.0 * e_star * A.powi(3) / (3.0 * r_star);
-    let text = format!(
-        r#"[solver]
-kind = "adr"
-tolerance = 1e-4
-max_iterations = 20000
-[output]
-every = 1000000
-[[body]]
-name = "ball"
-kind = "rigid"
-{surface}
-motion = "free"
-free_axis = [0.0, 0.0, 1.0]
-[[body]]
-name = "sphere"
-mesh = {sphere}
-kinematics = "small"
-[body.material]
-youngs_modulus = {YOUNGS:e}
-poisson_ratio = {POISSON}
-density = 1000.0
-[[load]]
-body = "ball"
-force = [0.0, 0.0, {quarter:e}]
-[[contact]]
-slave = "sphere"
-master = "ball"
-radius = 2290.0
-[[symmetry]]
-body = "sphere"
-axis = "x"
-[[symmetry]]
-body = "sphere"
-axis = "y"
-[[symmetry]]
-body = "sphere"
-axis = "z"
-at = -1.0
-keep = "positive"
-"#,
-        sphere = mesh("two_spheres_lower_h006.msh"),
-        quarter = -load / 4.0,
-    );
-    let (model, summary) = common::try_run_text(&text, &format!("curved-{name}"))
-        .unwrap_or_else(|e| panic!("{name}: {e}"));
-    assert!(summary.converged, "{name}: residual {}", summary.residual);
-    assert_eq!(summary.missed_contacts, 0, "{name}");
-    let sphere = model
-        .bodies
-        .iter()
-        .position(|b| b.as_pd().is_some())
-        .expect("the sphere");
-    let patch = contact_patch(&model, sphere, None).expect("a contact patch");
-    // The sphere carries the load.
-    assert!(
-        (patch.force.z.abs() / (load / 4.0) - 1.0).abs() < 1e-3,
-        "{name}: contact force {} against {}",
-        patch.force.z,
-        load / 4.0
+    let patch = pressed(
+        name,
+        &surface,
+        "two_spheres_lower_h006.msh",
+        -1.0,
+        2290.0,
+        load,
     );
     let (a, p0) = hertz_sphere(load, r_star, e_star);
     assert!((a - A).abs() < 1e-12);
@@ -160,65 +184,13 @@ fn a_flat_block_under_a_rigid_ball_meets_hertz_where_hertz_holds() {
     let a = 0.1;
     let e_star = YOUNGS / (1.0 - POISSON * POISSON);
     let load = 4.0 * e_star * a * a * a / 3.0;
-    let text = format!(
-        r#"[solver]
-kind = "adr"
-tolerance = 1e-4
-max_iterations = 20000
-[output]
-every = 1000000
-[[body]]
-name = "ball"
-kind = "rigid"
-mesh = {ball}
-motion = "free"
-free_axis = [0.0, 0.0, 1.0]
-[[body]]
-name = "block"
-mesh = {block}
-kinematics = "small"
-[body.material]
-youngs_modulus = {YOUNGS:e}
-poisson_ratio = {POISSON}
-density = 1000.0
-[[load]]
-body = "ball"
-force = [0.0, 0.0, {quarter:e}]
-[[contact]]
-slave = "block"
-master = "ball"
-radius = 4492.0
-[[symmetry]]
-body = "block"
-axis = "x"
-[[symmetry]]
-body = "block"
-axis = "y"
-[[symmetry]]
-body = "block"
-axis = "z"
-at = -2.0
-keep = "positive"
-"#,
-        ball = mesh("rigid_ball_cap_r1_h0015.msh"),
-        block = mesh("block_graded_tet4_h002.msh"),
-        quarter = -load / 4.0,
-    );
-    let (model, summary) =
-        common::try_run_text(&text, "flat-block").unwrap_or_else(|e| panic!("{e}"));
-    assert!(summary.converged, "residual {}", summary.residual);
-    assert_eq!(summary.missed_contacts, 0);
-    let block = model
-        .bodies
-        .iter()
-        .position(|b| b.as_pd().is_some())
-        .expect("the block");
-    let patch = contact_patch(&model, block, None).expect("a contact patch");
-    assert!(
-        (patch.force.z.abs() / (load / 4.0) - 1.0).abs() < 1e-3,
-        "contact force {} against {}",
-        patch.force.z,
-        load / 4.0
+    let patch = pressed(
+        "flat-block",
+        &format!("mesh = {}", mesh("rigid_ball_cap_r1_h0015.msh")),
+        "block_graded_tet4_h002.msh",
+        -2.0,
+        4492.0,
+        load,
     );
     let (ha, p0) = hertz_sphere(load, 1.0, e_star);
     assert!((ha - a).abs() < 1e-12);
