@@ -327,6 +327,17 @@ fn adr_without_convergence() {
         "{}",
         f.message
     );
+    // After 30 iterations the block, 1 cm above the plane, has not reached it: the message
+    // says the body touches nothing and is still moving, not only "too few iterations".
+    assert!(
+        f.message
+            .contains("(75 particles about [0.5, 0.5, 0.25], the whole body) touches nothing")
+            && f.message
+                .contains("% of its load, 1.000e5 N, is out of balance")
+            && f.message.contains("along [0.00, 0.00, -1.00]"),
+        "{}",
+        f.message
+    );
     assert_eq!(f.summary["iterations"], 30);
     assert_eq!(particle_steps(&f.frames), vec![10, 20, 30]);
 }
