@@ -1,0 +1,27 @@
+// inclined_block_tet10_h012.geo -- half of a 1 x 1 x 2 m block: the box [-0.5, 0.5] x
+// [0, 0.5] x [0, 1], meshed as a user who wants second-order tets would: gmsh's default
+// tets (only the element size set, h = 0.12 m) of order 2 (tet10: with second_order =
+// "all-nodes" every node a particle).
+// Regenerate with tools/regenerate_meshes.sh (gmsh 4.15.2, one thread). With symmetry
+// planes y = 0 and z = 0 it is the whole block of docs/FRACTURE.md, "The 30° crack
+// against CalculiX": loaded on "top" (z = 1), held along x there and on "bottom" (z = 0),
+// cut across (tests/crack_contact.rs).
+SetFactory("OpenCASCADE");
+DefineConstant[ h = 0.12 ];
+
+Box(1) = {-0.5, 0, 0, 1, 0.5, 1};
+
+Mesh.MeshSizeMin = h;
+Mesh.MeshSizeMax = h;
+Mesh.ElementOrder = 2;
+General.NumThreads = 1;
+
+Physical Volume("block", 1) = {1};
+top() = Surface In BoundingBox{-0.5 - 1e-6, -1e-6, 1 - 1e-6, 0.5 + 1e-6, 0.5 + 1e-6, 1 + 1e-6};
+Physical Surface("top", 2) = {top()};
+bottom() = Surface In BoundingBox{-0.5 - 1e-6, -1e-6, -1e-6, 0.5 + 1e-6, 0.5 + 1e-6, 1e-6};
+Physical Surface("bottom", 3) = {bottom()};
+
+Mesh.MshFileVersion = 4.1;
+Mesh.SaveAll = 0;
+Mesh.Binary = 1;
