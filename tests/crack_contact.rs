@@ -520,7 +520,7 @@ fn a_crack_in_gmsh_hexes_closes_on_faces_without_holes() {
 /// spacing, read the gap up to 7 µm off, 1.3e4 N of force at this penalty. Neither solver
 /// settled (ADR: residual 2.2e-3 after 20,000 iterations; Newton stalled, ADR after it not
 /// settled in 600 s). Now a slave beyond every segment presses on the nearest, whose plane
-/// continues the one it left. Measured: ADR 629 iterations, the static solver 5 Newton
+/// continues the one it left. Measured: ADR 606 iterations, the static solver 5 Newton
 /// iterations, the cut block 2.7 % more compliant than the whole.
 #[test]
 fn a_crack_in_gmsh_tet10_closes_where_it_meets_the_free_side() {
