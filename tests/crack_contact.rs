@@ -544,7 +544,12 @@ fn a_crack_in_gmsh_tet10_closes_where_it_meets_the_free_side() {
         &across.replace("kind = \"adr\"", "kind = \"static\""),
         "crack-t10-across-static",
     );
-    assert!(s0.converged && s1.converged, "{:?} {:?}", s0.solver, s1.solver);
+    assert!(
+        s0.converged && s1.converged,
+        "{:?} {:?}",
+        s0.solver,
+        s1.solver
+    );
     assert!(s1.iterations < 2000, "ADR {:?}", s1.solver);
     assert!(
         s2.converged && s2.solver.relaxation_iterations == 0,
