@@ -5,7 +5,7 @@
 // Regenerate with tools/regenerate_meshes.sh (gmsh 4.15.2, one thread). With symmetry
 // planes y = 0 and z = 0 it is the whole block of docs/FRACTURE.md, "The 30° crack
 // against CalculiX": loaded on "top" (z = 1), held along x there and on "bottom" (z = 0),
-// cut across (tests/crack_contact.rs).
+// cut across (tests/crack_contact_gmsh.rs).
 SetFactory("OpenCASCADE");
 DefineConstant[ h = 0.12 ];
 
