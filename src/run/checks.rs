@@ -486,7 +486,7 @@ fn falling_piece(pd: &crate::body::PdBody, i: usize) -> Option<String> {
         "the whole body".to_string()
     };
     Some(format!(
-        "; that particle's piece ({n} particles about [{}, {}, {}], {whole}) touches nothing and {:.0} % of its load, {:.3e} N, is out of balance: it is still on its way to what it will rest on (it has moved {:.3e} m so far, along [{:.2}, {:.2}, {:.2}]). ADR moves a piece that starts apart slowly, the more slowly the finer its particles: start it in touch with what holds it, or hold it",
+        "; that particle's piece ({n} particles about [{}, {}, {}], {whole}) touches nothing and {:.0} % of its load, {:.3e} N, is out of balance: it is still on its way to what it will rest on (it has moved {:.3e} m so far, along [{:.2}, {:.2}, {:.2}]). A piece that starts apart closes slowly under ADR, the more slowly the finer its particles, and not by Newton's steps, whose tangent nothing holds it in: start it in touch with what holds it, or hold it",
         num(centre.x),
         num(centre.y),
         num(centre.z),
