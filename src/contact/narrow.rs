@@ -299,7 +299,8 @@ pub fn project_any(slave: Vec3, x: [Vec3; 4], triangle: bool) -> Option<(Project
 /// iterations on two gmsh spheres pressed together with one pass, and ADR cycled. The force there
 /// acts along the mean normal of the facing segments that share the edge or vertex (a slave
 /// over the bottom vertex of a symmetric dimple is pushed straight out, not sideways by
-/// whichever segment it picked), and the gap is measured along it.
+/// whichever segment it picked), and the gap is measured along it, from the edge's point
+/// nearest to the slave.
 pub fn select_across_edge(
     slave: Vec3,
     candidates: impl Iterator<Item = (u32, Projection, f64)> + Clone,
@@ -354,6 +355,25 @@ pub fn select_across_edge(
     }
     let n = mean.try_normalize(0.0)?;
     let x = corners(seg);
+    // Held at a quadrilateral's edge, the slave presses on the edge's point nearest to it,
+    // whichever of the segments that share the edge was picked: each quadrilateral's
+    // projection, clamped in its own (r, t), lands elsewhere on the edge, and a slave over
+    // the dimple's edge picked the one and the other by turns (the segment it falls least
+    // outside of) with a force that jumped by 1.5 % each time (two gmsh hex spheres pressed
+    // together with one pass, H = 0.07 m: ADR 4,663 iterations, 2,908 with the edge's own
+    // point). A triangle's clamp is that point already (the nearest point of its edges).
+    if let (&[a, b], false) = (&support[..], own[2] == own[3]) {
+        let corner = |node: u32| (0..4).find(|&k| own[k] == node);
+        if let (Some(a), Some(b)) = (corner(a), corner(b)) {
+            let e = x[b] - x[a];
+            let t = ((slave - x[a]).dot(&e) / e.norm_squared()).clamp(0.0, 1.0);
+            if t.is_finite() {
+                pr.weights = [0.0; 4];
+                pr.weights[a] = 1.0 - t;
+                pr.weights[b] = t;
+            }
+        }
+    }
     let xc: Vec3 = (0..4).map(|k| x[k] * pr.weights[k]).sum();
     pr.normal = n;
     pr.gap = (slave - xc).dot(&n);

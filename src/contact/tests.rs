@@ -129,6 +129,63 @@ fn slave_under_a_valley_line_is_held_along_the_mean_normal() {
 }
 
 #[test]
+fn slave_over_a_quad_valley_is_held_at_the_edges_nearest_point() {
+    // The valley of `fold(0.2)` with each quad's far side sheared along y, opposite ways:
+    // each clamps its projection onto the shared edge (nodes 1 and 2, x = 0) at another y.
+    let z = |x: f64| 0.2 * x.abs();
+    let p = |x: f64, y: f64| Vec3::new(x, y, z(x));
+    let faces = [
+        (
+            [0, 1, 2, 3],
+            [p(-1.0, 1.0), p(0.0, 0.0), p(0.0, 1.0), p(-1.0, 2.0)],
+        ),
+        (
+            [1, 4, 5, 2],
+            [p(0.0, 0.0), p(1.0, -1.0), p(1.0, 0.0), p(0.0, 1.0)],
+        ),
+    ];
+    let slave = Vec3::new(0.0, 0.5, -0.05);
+    let all: Vec<(u32, Projection, f64)> = faces
+        .iter()
+        .enumerate()
+        .filter_map(|(k, (_, x))| project_any(slave, *x, false).map(|(p, o)| (k as u32, p, o)))
+        .collect();
+    assert_eq!(all.len(), 2);
+    // Each face's own clamp puts the slave elsewhere on the edge than the edge's nearest
+    // point, y = 0.5, and elsewhere than the other face's clamp.
+    let on_edge = |k: usize, w: [f64; 4]| {
+        let x = faces[k].1;
+        (0..4).map(|i| x[i] * w[i]).sum::<Vec3>()
+    };
+    let ys: Vec<f64> = all
+        .iter()
+        .map(|(k, p, _)| on_edge(*k as usize, p.weights).y)
+        .collect();
+    assert!((ys[0] - ys[1]).abs() > 0.01, "{ys:?}");
+    // Held at y = 0.5 whichever face is picked: each alone first in the candidates, and
+    // the pick forced by listing only it as a face the slave falls outside of.
+    for pick in 0..2 {
+        let listed: Vec<(u32, Projection, f64)> = all
+            .iter()
+            .map(|&(k, p, o)| (k, p, if k as usize == pick { o } else { o + 1.0 }))
+            .collect();
+        let (seg, pr) = select_across_edge(
+            slave,
+            listed.into_iter(),
+            |k| faces[k as usize].0,
+            |k| faces[k as usize].1,
+            || -Vec3::z(),
+            0.5,
+        )
+        .expect("held");
+        assert_eq!(seg as usize, pick);
+        let x = on_edge(pick, pr.weights);
+        assert!((x - Vec3::new(0.0, 0.5, 0.0)).norm() < 1e-12, "{x:?}");
+        assert!((pr.gap + 0.05).abs() < 1e-12, "{}", pr.gap);
+    }
+}
+
+#[test]
 fn slave_beside_a_ridge_is_not_held() {
     // Behind the left face's plane, and beyond its edge by less than that depth, but in
     // front of the right face: outside the master.
