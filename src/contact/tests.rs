@@ -162,8 +162,8 @@ fn slave_over_a_quad_valley_is_held_at_the_edges_nearest_point() {
         .map(|(k, p, _)| on_edge(*k as usize, p.weights).y)
         .collect();
     assert!((ys[0] - ys[1]).abs() > 0.01, "{ys:?}");
-    // Held at y = 0.5 whichever face is picked: each alone first in the candidates, and
-    // the pick forced by listing only it as a face the slave falls outside of.
+    // Held at y = 0.5 whichever face is picked: the pick forced by listing the other face
+    // as too far outside to hold the slave (it still counts for the edge's mean normal).
     for pick in 0..2 {
         let listed: Vec<(u32, Projection, f64)> = all
             .iter()
