@@ -95,21 +95,34 @@ fn fold(slope: f64) -> [([u32; 4], [Vec3; 4]); 2] {
     ]
 }
 
-fn across(slave: Vec3, slope: f64) -> Option<(u32, Projection)> {
-    let f = fold(slope);
-    let all: Vec<(u32, Projection, f64)> = f
+/// Each quad's projection of `slave` that lands on it or beyond its boundary, with how far.
+fn projections(slave: Vec3, faces: &[([u32; 4], [Vec3; 4])]) -> Vec<(u32, Projection, f64)> {
+    faces
         .iter()
         .enumerate()
         .filter_map(|(k, (_, x))| project_any(slave, *x, false).map(|(p, o)| (k as u32, p, o)))
-        .collect();
+        .collect()
+}
+
+/// [`select_across_edge`] over `candidates` on `faces`, the slave facing down, window 0.5.
+fn hold(
+    slave: Vec3,
+    faces: &[([u32; 4], [Vec3; 4])],
+    candidates: Vec<(u32, Projection, f64)>,
+) -> Option<(u32, Projection)> {
     select_across_edge(
         slave,
-        all.into_iter(),
-        |k| f[k as usize].0,
-        |k| f[k as usize].1,
+        candidates.into_iter(),
+        |k| faces[k as usize].0,
+        |k| faces[k as usize].1,
         || -Vec3::z(),
         0.5,
     )
+}
+
+fn across(slave: Vec3, slope: f64) -> Option<(u32, Projection)> {
+    let f = fold(slope);
+    hold(slave, &f, projections(slave, &f))
 }
 
 #[test]
@@ -145,11 +158,7 @@ fn slave_over_a_quad_valley_is_held_at_the_edges_nearest_point() {
         ),
     ];
     let slave = Vec3::new(0.0, 0.5, -0.05);
-    let all: Vec<(u32, Projection, f64)> = faces
-        .iter()
-        .enumerate()
-        .filter_map(|(k, (_, x))| project_any(slave, *x, false).map(|(p, o)| (k as u32, p, o)))
-        .collect();
+    let all = projections(slave, &faces);
     assert_eq!(all.len(), 2);
     // Each face's own clamp puts the slave elsewhere on the edge than the edge's nearest
     // point, y = 0.5, and elsewhere than the other face's clamp.
@@ -169,15 +178,7 @@ fn slave_over_a_quad_valley_is_held_at_the_edges_nearest_point() {
             .iter()
             .map(|&(k, p, o)| (k, p, if k as usize == pick { o } else { o + 1.0 }))
             .collect();
-        let (seg, pr) = select_across_edge(
-            slave,
-            listed.into_iter(),
-            |k| faces[k as usize].0,
-            |k| faces[k as usize].1,
-            || -Vec3::z(),
-            0.5,
-        )
-        .expect("held");
+        let (seg, pr) = hold(slave, &faces, listed).expect("held");
         assert_eq!(seg as usize, pick);
         let x = on_edge(pick, pr.weights);
         assert!((x - Vec3::new(0.0, 0.5, 0.0)).norm() < 1e-12, "{x:?}");
