@@ -22,6 +22,15 @@
 //!   that is a graph over one plane is triangulated there whole, its outline's slivers
 //!   peeled off as a pre-crack's are, [`face_triangles`]). A triangle found from several of its corners is kept once.
 //!
+//! - **A flat face.** A face whose particles off the surface as built lie within
+//!   [`FLAT_DEVIATION`] spacings of one plane (a pre-crack cut as bonds, a straight crack) is
+//!   that plane at this resolution: its particles stand up to a spacing or so off the cut as
+//!   the cells beside it fall. Its plane is kept ([`NewFaces::flat`]); its master nodes stand
+//!   on it (`contact::crack`'s `onto_faces`), and a triangle of its triangulation whose own
+//!   normal turns more than 60° from the plane, a sliver of the crack's edge standing in the
+//!   body's side (its corners the edge's particles, at depths a spacing apart), is left out:
+//!   on the plane it has no area.
+//!
 //! Where the faces are flat the umbrellas tile them as a triangulation of the plane would
 //! (on a lattice, the two triangles of each square); where a crack turns, the umbrellas of
 //! the two sides of the turn overlap, as the narrow phase allows: a slave takes the segment
@@ -46,6 +55,11 @@ pub const REACH: f64 = 2.0;
 /// faces 45° from its face).
 const SAME_FACE_COS: f64 = 0.5;
 
+/// A face whose particles off the surface as built lie within this many spacings of their
+/// least-squares plane is flat: the particles beside a plane cut stand 0.4-1.2 spacings off
+/// it on gmsh's tet4, tet10 and tets split into hexes and on a lattice cut at 30°.
+pub const FLAT_DEVIATION: f64 = 2.0;
+
 /// The 45° cone of the occlusion test, as the surface found again's.
 const OCCLUSION_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
@@ -62,6 +76,10 @@ pub struct NewFaces {
     pub new: Vec<u32>,
     /// The segments of the new faces, corners wound outward.
     pub segments: Vec<MasterSegment>,
+    /// The planes of the flat faces: a point on it, its unit normal (outward).
+    pub planes: Vec<(Vec3, Vec3)>,
+    /// Per particle of the body, the index in `planes` of its flat face (`u32::MAX`: none).
+    pub flat: Vec<u32>,
 }
 
 /// The faces of `pd`'s surface that `found` holds (up to date; `None`: no bond broken), and
@@ -137,11 +155,29 @@ pub fn new_faces(pd: &PdBody, found: Option<&Found>) -> NewFaces {
     }
     let longest = LONGEST_EDGE * spacing;
     let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let mut planes = Vec::new();
+    let mut flat = vec![u32::MAX; n];
     for members in patches.values() {
         match patch_plane(members, &normal, x) {
-            // A face that is a graph over its plane: triangulated there as a whole, as a
-            // pre-crack's faces are, one surface without overlaps.
-            Some(m) => triangles.extend(planar(members, m, x, spacing)),
+            // A flat face: its plane, and no slivers standing across it.
+            Some(m) => match flat_plane(members, m, &surface.is_surface, x, spacing) {
+                Some((c, m)) => {
+                    for &i in members {
+                        flat[i as usize] = planes.len() as u32;
+                    }
+                    planes.push((c, m));
+                    triangles.extend(planar(members, m, x, spacing).into_iter().filter(|t| {
+                        let [a, b, c] = t.map(|i| x[i as usize]);
+                        (b - a)
+                            .cross(&(c - a))
+                            .try_normalize(0.0)
+                            .is_some_and(|u| u.dot(&m).abs() >= SAME_FACE_COS)
+                    }));
+                }
+                // A face that is a graph over its plane: triangulated there as a whole, as a
+                // pre-crack's faces are, one surface without overlaps.
+                None => triangles.extend(planar(members, m, x, spacing)),
+            },
             // One that turns too far: each particle's umbrella.
             None => triangles.extend(members.iter().flat_map(|&i| {
                 let mut face = vec![i];
@@ -182,7 +218,36 @@ pub fn new_faces(pd: &PdBody, found: Option<&Found>) -> NewFaces {
         particles,
         new,
         segments,
+        planes,
+        flat,
     }
+}
+
+/// The plane of a face (`members`, the normal of their least-squares plane `m`) if it is
+/// flat: the least-squares plane of its particles off the surface as built (the crack's
+/// edge, on the body's sides too, is left out of the fit), through their centroid, normal
+/// along `m`, every one of them within [`FLAT_DEVIATION`] spacings of it.
+fn flat_plane(
+    members: &[u32],
+    m: Vec3,
+    on_surface: &[bool],
+    x: &[Vec3],
+    spacing: f64,
+) -> Option<(Vec3, Vec3)> {
+    let inner: Vec<Vec3> = members
+        .iter()
+        .filter(|&&i| !on_surface[i as usize])
+        .map(|&i| x[i as usize])
+        .collect();
+    if inner.len() < 4 {
+        return None;
+    }
+    let (c, n) = crate::math::least_squares_plane(&inner);
+    let n = if n.dot(&m) < 0.0 { -n } else { n };
+    inner
+        .iter()
+        .all(|p| (p - c).dot(&n).abs() <= FLAT_DEVIATION * spacing)
+        .then_some((c, n))
 }
 
 /// The normal of the least-squares plane through a face's particles, turned along their

@@ -236,8 +236,9 @@ impl ContactPass {
 /// (`.1`); zero off the new faces.
 ///
 /// A crack's faces are as rough as the particles beside it: on a lattice a flat row or
-/// stairs, on an unstructured mesh particles at depths up to a spacing or so apart. Each
-/// face particle's point is moved onto the plane through its face's particles about it
+/// stairs, on an unstructured mesh particles at depths up to a spacing or so apart. On a flat
+/// face ([`NewFaces::flat`]) each face particle's point is moved onto the face's plane;
+/// elsewhere onto the plane through its face's particles about it
 /// (every one still bonded to it, its horizon, their normals within 60° of its own, and
 /// itself: the least-squares plane, through their centroid, normal to the direction they
 /// spread least in), so the faces are smooth at the scale of the spacing. Over a smaller
@@ -264,6 +265,13 @@ fn onto_faces(pd: &PdBody, faces: &NewFaces, built: usize) -> (Vec<Vec3>, Vec<Ve
         .par_iter()
         .map(|&i| {
             let (xi, ni) = (x[i as usize], faces.normal[i as usize]);
+            // On a flat face, onto its plane: each particle's own plane through its
+            // neighbours' centroid stood at another depth beside the crack's edge, where the
+            // neighbours are one-sided, and the segments there leant 27-35° from the crack,
+            // holding the halves back as a friction would (docs/FRACTURE.md).
+            if let Some(&(c, m)) = faces.planes.get(faces.flat[i as usize] as usize) {
+                return (i, m * (c - xi).dot(&m));
+            }
             let mut near = vec![Vec3::zeros()];
             for b in pd.case.bonds.range(i as usize) {
                 let j = pd.case.bonds.partner[b] as usize;

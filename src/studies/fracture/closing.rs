@@ -103,6 +103,13 @@ pub fn top_displacement(pd: &PdBody) -> f64 {
 /// (docs/FRACTURE.md, "The 30° crack against CalculiX").
 pub fn inclined_slide(pd: &PdBody) -> f64 {
     let f = &pd.crack_faces[0];
+    slide_at(pd, f.point, f.normal)
+}
+
+/// [`inclined_slide`] across the plane through `point` with unit normal `normal` in the x-z
+/// plane: the cut where the body keeps no faces of its own (a pre-crack's faces found again).
+pub fn slide_at(pd: &PdBody, point: Vec3, normal: Vec3) -> f64 {
+    let f = Plane { point, normal };
     let downhill = Vec3::new(f.normal.z, 0.0, -f.normal.x);
     let reach = 2.0 * pd.spacing();
     // Per side: n, Σd, Σd², Σu, Σdu.
@@ -121,6 +128,12 @@ pub fn inclined_slide(pd: &PdBody) -> f64 {
     // The line's value at d = 0: (Σd² Σu − Σd Σdu) / (n Σd² − (Σd)²).
     let at_cut = |s: &[f64; 5]| (s[2] * s[3] - s[1] * s[4]) / (s[0] * s[2] - s[1] * s[1]);
     at_cut(&sums[1]) - at_cut(&sums[0])
+}
+
+/// A plane through `point`, unit `normal`.
+struct Plane {
+    point: Vec3,
+    normal: Vec3,
 }
 
 /// The deepest penetration of one crack face into the other, m.
