@@ -109,14 +109,13 @@ pub fn inclined_slide(pd: &PdBody) -> f64 {
 /// [`inclined_slide`] across the plane through `point` with unit normal `normal` in the x-z
 /// plane: the cut where the body keeps no faces of its own (a pre-crack's faces found again).
 pub fn slide_at(pd: &PdBody, point: Vec3, normal: Vec3) -> f64 {
-    let f = Plane { point, normal };
-    let downhill = Vec3::new(f.normal.z, 0.0, -f.normal.x);
+    let downhill = Vec3::new(normal.z, 0.0, -normal.x);
     let reach = 2.0 * pd.spacing();
     // Per side: n, Σd, Σd², Σu, Σdu.
     let mut sums = [[0.0f64; 5]; 2];
     for i in 0..pd.len() {
         let x = pd.reference[i];
-        let d = f.normal.dot(&(x - f.point));
+        let d = normal.dot(&(x - point));
         if x.x.abs() < 0.4 && x.y < 0.4 && d != 0.0 && d.abs() < reach {
             let u = pd.u[i].dot(&downhill);
             let s = &mut sums[usize::from(d > 0.0)];
@@ -128,12 +127,6 @@ pub fn slide_at(pd: &PdBody, point: Vec3, normal: Vec3) -> f64 {
     // The line's value at d = 0: (Σd² Σu − Σd Σdu) / (n Σd² − (Σd)²).
     let at_cut = |s: &[f64; 5]| (s[2] * s[3] - s[1] * s[4]) / (s[0] * s[2] - s[1] * s[1]);
     at_cut(&sums[1]) - at_cut(&sums[0])
-}
-
-/// A plane through `point`, unit `normal`.
-struct Plane {
-    point: Vec3,
-    normal: Vec3,
 }
 
 /// The deepest penetration of one crack face into the other, m.
