@@ -20,7 +20,7 @@ py="${PYTHON:-python3}"
 expected_version="4.15.2"
 
 # Stored meshes: .geo source -> .msh (same base name).
-all=(sphere_r1_d008 sphere_r1_d012 sphere_r1_d006 block_hex sphere_tet4 sphere_tet4_h007 cylinder_tet4_h006 sphere_hex_h020 sphere_cap_quarter sphere_cap_quarter_tet4 sphere_tet10_h008 sphere_tet4_graded sphere_hex20_h030 roller_hex_extruded bar_tet4_h005 beam_slot_tet4_h002 two_boxes_gap inclined_block_tet4_h005 inclined_block_hex_h012 inclined_block_tet10_h012 block_graded_tet4_h002)
+all=(sphere_r1_d008 sphere_r1_d012 sphere_r1_d006 block_hex sphere_tet4 sphere_tet4_h007 cylinder_tet4_h006 sphere_hex_h020 sphere_cap_quarter sphere_cap_quarter_tet4 sphere_tet10_h008 sphere_tet4_graded sphere_hex20_h030 roller_hex_extruded bar_tet4_h005 beam_slot_tet4_h002 two_boxes_gap inclined_block_tet4_h005 inclined_block_hex_h012 inclined_block_tet10_h012 inclined_block_tet4_h007 block_graded_tet4_h002)
 
 check=1
 names=()
