@@ -228,7 +228,7 @@ impl PdCase {
                 volume: &self.particles.volume,
                 is_surface: &self.surface.is_surface,
                 normal: &self.surface.normal,
-                pressure_area: &self.segments.pressure_area,
+                pressure_area: self.segments.load_areas(),
                 ghosts: &self.ghosts,
                 horizon: self.horizon,
             };
@@ -387,6 +387,10 @@ pub struct CrackFaces {
     pub point: Vec3,
     /// The face particles of each side.
     pub particles: [Vec<u32>; 2],
+    /// Per face particle of each side (as `particles`), the share of its bonds across the
+    /// crack's plane that the patch cut: 1 on a crack through the body, less at a front
+    /// inside it, where the bonds beyond the front carry the rest of a load across.
+    pub share: [Vec<f64>; 2],
     /// The side of each of the body's segments from `first_segment` on (0 or 1).
     pub segment_side: Vec<u8>,
     /// The index of this crack's first segment in the body's segment list.
@@ -545,22 +549,28 @@ pub fn open_faces(
         if total > 0.0 {
             area.iter_mut().for_each(|a| *a *= planar / total);
         }
+        if case.segments.load_area.is_empty() {
+            case.segments.load_area = case.segments.pressure_area.clone();
+        }
         for (&i, &a) in list.iter().zip(&area) {
             // A particle on the body's outer boundary as well (the crack's mouth) takes the
             // crack face's areas in place of its outer face's: summed, they made its skin
             // correction carry both faces' tractions along the one normal between them, and
             // the rows at the mouth drew half as much again as their share of the load across
             // the crack (docs/FRACTURE.md, "The crack's mouth").
+            let segments = &mut case.segments;
             if std::mem::take(&mut outer[i as usize]) {
-                case.segments.pressure_area[i as usize] = 0.0;
-                case.segments.tributary_area[i as usize] = 0.0;
+                segments.pressure_area[i as usize] = 0.0;
+                segments.load_area[i as usize] = 0.0;
+                segments.tributary_area[i as usize] = 0.0;
             }
+            segments.pressure_area[i as usize] += a;
             // A particle at a crack's front inside the body takes the share of a load across
             // that its cut bonds carried: the bonds beyond the front carry the rest, and with
             // its whole cell the skin correction stiffened those bonds (up to ten times)
             // until a crack closed in compression made the body stiffer than uncut (a gmsh
             // tet4 block with a crack over a third of its section: 10 % stiffer).
-            case.segments.pressure_area[i as usize] += a * lost[i as usize];
+            segments.load_area[i as usize] += a * lost[i as usize];
             // Its reactions are its own: the opposite face's slaves land on its segments
             // wherever the two faces' particles happen to lie, not by its triangles' thirds.
             case.segments.tributary_area[i as usize] += a;
@@ -580,11 +590,15 @@ pub fn open_faces(
             surface.is_surface[i] = true;
         }
     }
+    let share = particles
+        .each_ref()
+        .map(|list| list.iter().map(|&i| lost[i as usize]).collect());
     Ok(CrackFaces {
         precrack,
         normal: patch.normal,
         point: patch.point,
         particles,
+        share,
         segment_side,
         first_segment,
     })

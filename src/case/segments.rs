@@ -52,6 +52,23 @@ pub struct SegmentSet {
     /// Pressure area of each particle (zero off the boundary): the share of the boundary's
     /// area over which its contact force acts (see [`pressure_areas`]).
     pub pressure_area: Vec<f64>,
+    /// Where a pre-crack's face ends inside the body: per particle, the area through which a
+    /// load across the crack enters it by contact, its face's cell times the share of its
+    /// bonds across that the crack cut (the bonds beyond the front carry the rest); empty
+    /// where no face does, the pressure area then ([`Self::load_areas`]).
+    pub load_area: Vec<f64>,
+}
+
+impl SegmentSet {
+    /// Per particle, the area through which a contact's load enters it: what the skin
+    /// correction balances a surface particle against ([`crate::case::skin`]).
+    pub fn load_areas(&self) -> &[f64] {
+        if self.load_area.is_empty() {
+            &self.pressure_area
+        } else {
+            &self.load_area
+        }
+    }
 }
 
 /// Builds master segments from the mesh's boundary faces and the surface flags.

@@ -190,6 +190,13 @@ impl ContactPass {
         pass.reference_normals =
             super::normal::reference_normals(super::MasterView::Shifted(pd, &shift));
         pass.shift = std::sync::Arc::new(shift);
+        let mut area_share = vec![1.0; pd.len()];
+        for (list, share) in f.particles.iter().zip(&f.share) {
+            for (&p, &a) in list.iter().zip(share) {
+                area_share[p as usize] = a;
+            }
+        }
+        pass.area_share = Arc::new(area_share);
         pass
     }
 

@@ -284,6 +284,9 @@ pub struct ContactPass {
     /// Per particle of the body, for the faces of a pre-crack: the offset that moves a face
     /// particle onto the crack plane (empty otherwise).
     shift: std::sync::Arc<Vec<Vec3>>,
+    /// Per particle of the body, for the faces of a pre-crack: the share of its cell a slave
+    /// presses with (empty otherwise: all of it; [`ContactPass::slave_scale`]).
+    area_share: std::sync::Arc<Vec<f64>>,
     /// For a body against the surfaces its broken bonds opened ([`ContactPass::found_faces`]).
     found: Option<FoundFaces>,
 }
@@ -415,8 +418,20 @@ impl ContactPass {
             friction_work: Vec::new(),
             crack: None,
             shift: Default::default(),
+            area_share: Default::default(),
             found: None,
         }
+    }
+
+    /// What multiplies the contact law's force and stiffness for slave `s` of `sb`: the
+    /// pass's weight, the slave's share of its particle on a symmetry plane, and on a
+    /// pre-crack's face the share of its cell its cut bonds carried (at a front inside the
+    /// body the bonds beyond it carry the rest, and the contact there, which reads the
+    /// compression of the material still bonded across as penetration, pressed the front's
+    /// particles with tens of times the load's pressure).
+    pub fn slave_scale(&self, sb: &PdBody, s: usize) -> f64 {
+        let area = self.area_share.get(s).copied().unwrap_or(1.0);
+        self.weight * sb.case.ghosts.share(s) * area
     }
 
     /// The master as this pass sees it (a crack's faces shifted onto its plane).
@@ -525,8 +540,8 @@ impl ContactPass {
             let gap_normal = pr.normal;
             pr.normal = self.smooth_normal(view, segment, &pr);
             let d = -pr.gap;
-            // A slave on a symmetry plane is only part of its particle.
-            let scale = self.weight * sb.case.ghosts.share(s as usize);
+            // A slave on a symmetry plane, or at a crack's front, is only part of its particle.
+            let scale = self.slave_scale(sb, s as usize);
             let f = scale * self.law.force(d);
             let mut point = ContactPoint {
                 slave: s,

@@ -148,7 +148,7 @@ fn open_slaves(model: &Model) -> Vec<Open> {
                     gradient: pr.normal,
                     slide: [Vec3::zeros(); 4],
                     turn: nalgebra::Matrix3::zeros(),
-                    k: pass.weight * sb.case.ghosts.share(s as usize) * k_law,
+                    k: pass.slave_scale(sb, s as usize) * k_law,
                     shear: 0.0,
                     slip: Vec3::zeros(),
                     master: master_of(model, pass, segments[seg as usize].nodes, pr.weights),

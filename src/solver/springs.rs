@@ -188,7 +188,7 @@ pub(super) fn pass_springs(
         } else {
             pass.law.relaxation_stiffness(c.penetration)
         };
-        let k = pass.weight * sb.case.ghosts.share(s) * tangent.min(pass.law.max_tangent());
+        let k = pass.slave_scale(sb, s) * tangent.min(pass.law.max_tangent());
         // Friction (METHOD.md §10): sticking, the tangential penalty `k_t` across the
         // tangent plane; slipping, the force turns with the slip at the cone's radius, so
         // only its stiffness across the slip, `k_t μ F_n / |k_t g_t|`, is kept. What is left

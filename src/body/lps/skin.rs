@@ -63,7 +63,7 @@ pub fn skin_factors(lps: &Lps, case: &PdCase) -> (Vec<f64>, Vec<Vec3>) {
     let (m, bv, g) = (&lps.weighted_volume, &lps.bond_volume, &lps.correction);
     let (kb, mu) = (lps.bulk, lps.shear);
     let normal = &case.surface.normal;
-    let area = &case.segments.pressure_area;
+    let area = case.segments.load_areas();
     let sigma = kb + 4.0 * mu / 3.0;
     let factor: Vec<f64> = (0..n)
         .into_par_iter()
