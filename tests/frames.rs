@@ -404,3 +404,79 @@ print(int(((mid.max(2) - mid.min(2)) > 0.3).sum()))
     assert!(coloured > 200, "{coloured} coloured pixels at the centre");
     let _ = std::fs::remove_dir_all(out.parent().expect("dir"));
 }
+
+/// A body pressed on itself across a pre-crack: its contact lies inside it, behind its outer
+/// faces, and `view.py` aims along the crack's normal at the faces in contact (the two faces'
+/// normals, opposite, counted one way), drawing them alone inside the body drawn faintly.
+/// Without python3's vtk, skipped, saying so.
+#[test]
+fn view_py_aims_at_a_closed_crack_inside_the_body() {
+    if !common::python_has("vtk") {
+        common::skipped(
+            "view.py --focus on a crack",
+            "python3 with vtk not found (pip install vtk)",
+        );
+        return;
+    }
+    let text = r#"[solver]
+kind = "adr"
+[output]
+every = 1000000
+folder = "out"
+[[body]]
+name = "block"
+generator = { shape = "box", min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0], spacing = 0.1 }
+kinematics = "small"
+[body.material]
+youngs_modulus = 1e9
+poisson_ratio = 0.25
+density = 1000.0
+[[symmetry]]
+body = "block"
+axis = "x"
+[[symmetry]]
+body = "block"
+axis = "y"
+[[constraint]]
+body = "block"
+set = "bottom"
+fix = ["z"]
+[[load]]
+body = "block"
+force = [0.0, 0.0, -1e5]
+[[precrack]]
+body = "block"
+point = [0.5, 0.5, 0.55]
+normal = [0.0, 0.0, 1.0]
+along = [1.0, 0.0, 0.0]
+size = [3.0, 3.0]
+[[contact]]
+slave = "block"
+master = "block"
+"#;
+    let out = run("crack-view", text);
+    let run = Command::new("python3")
+        .arg(out.join("view.py"))
+        .arg("--focus")
+        .output()
+        .expect("python3 runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let r: serde_json::Value = serde_json::from_slice(&run.stdout).expect("JSON");
+    assert!(r["loaded"].as_u64().expect("count") > 0, "{r}");
+    assert!(r["normal"][2].as_f64().expect("nz").abs() > 0.99, "{r}");
+    assert!(
+        (r["centre"][2].as_f64().expect("z") - 0.55).abs() < 0.1,
+        "{r}"
+    );
+    let caption = r["caption"].as_str().expect("caption");
+    assert!(
+        caption.starts_with("block on block\n")
+            && caption.ends_with("the faces in contact, the body drawn faintly"),
+        "{r}"
+    );
+    let _ = std::fs::remove_dir_all(out.parent().expect("dir"));
+}

@@ -12,7 +12,9 @@ It opens run.pvd beside this file at its last timestep, warps every block by `di
 (the points are the reference positions, so scale 1 gives the deformed shape), shows each
 slave's `<body>/surface` coloured by `contact_pressure` and each master translucent, and puts
 the camera on the contact: looking through the master at the pressure-weighted centre of the
-loaded surface nodes, along their mean outward normal. The legend, in the lower right corner,
+loaded surface nodes, along their mean outward normal. A body pressed on itself (the faces of
+its pre-cracks, the pieces of one mesh) shows the faces in contact alone, coloured, inside the
+body drawn faintly (its outer faces would hide a crack's). The legend, in the lower right corner,
 gives the pressure in the unit that suits the frame (Pa, kPa, MPa or GPa; every label in one
 format) from 0 to its largest value; the upper left corner names the contact pairs and the
 frame: its load factor and iteration (ADR or the static solver) or its time (s) and step (explicit). Where bonds
@@ -102,10 +104,12 @@ def merged(pieces):
     return grid
 
 
-def focus(blocks, slaves):
+def focus(blocks, slaves, inner=()):
     """Camera target from the slaves' surfaces: (centre, outward normal, radius) of the loaded
-    nodes (deformed positions, weighted by pressure); the surfaces' bounds when none is loaded."""
-    sw, c, n, pts = 0.0, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], []
+    nodes (deformed positions, weighted by pressure); the surfaces' bounds when none is loaded.
+    On the slaves in `inner` (a body its own master: a crack's two faces, facing each other)
+    each normal counts along the first loaded node's, so that the two faces' do not cancel."""
+    sw, c, n, pts, first = 0.0, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [], None
     lo, hi = [float("inf")] * 3, [float("-inf")] * 3
     for s in slaves:
         g = blocks.get(s + "/surface")
@@ -121,7 +125,12 @@ def focus(blocks, slaves):
             if w > 0.0:
                 sw += w
                 c = [a + w * b for a, b in zip(c, x)]
-                n = [a + w * b for a, b in zip(n, nrm.GetTuple3(i))]
+                ni = nrm.GetTuple3(i)
+                if s in inner:
+                    first = first or ni
+                    if sum(a * b for a, b in zip(ni, first)) < 0.0:
+                        ni = [-a for a in ni]
+                n = [a + w * b for a, b in zip(n, ni)]
                 pts.append(x)
     if sw == 0.0:
         if lo[0] == float("inf"):
@@ -241,9 +250,13 @@ def camera(centre, normal, radius):
 def main(argv):
     slaves = sorted({s for s, _ in PAIRS}) or list(DEFORMABLE)
     masters = sorted({m for _, m in PAIRS} - set(slaves))
+    # Bodies pressed on themselves (a pre-crack's faces, pieces of one mesh): their contact
+    # may lie inside them, behind their outer faces; the faces in contact are drawn alone,
+    # the body faintly about them.
+    inner = sorted({s for s, m in PAIRS if s == m})
     vtm, t = last_frame()
     blocks = read_blocks(vtm)
-    centre, normal, radius, loaded = focus(blocks, slaves)
+    centre, normal, radius, loaded = focus(blocks, slaves, inner)
     position, focal, up = camera(centre, normal, radius)
     text = caption(slaves, frame_info(blocks, slaves), t)
     pmax, size, unit = pressure_scale(blocks, slaves)
@@ -256,6 +269,8 @@ def main(argv):
         text += "\n%d particles damaged (largest damage %.2f)" % (count, dmax)
     elif pmax == 0.0:
         text += "\nno contact pressure in this frame"
+    elif inner:
+        text += "\nthe faces in contact, the body drawn faintly"
     title = "contact pressure (%s)" % unit
     if "--focus" in argv:
         import json
@@ -317,6 +332,19 @@ def main(argv):
         masters = []
     for s in slaves:
         src = block(s + "/surface")
+        if s in inner and pmax > 0.0:
+            d = pv.Show(src, view)
+            pv.ColorBy(d, None)
+            d.AmbientColor = d.DiffuseColor = [0.75, 0.75, 0.8]
+            d.Opacity = 0.15
+            # The surface's cells with every corner pressed: a crack's faces where they touch.
+            src = pv.Threshold(Input=src)
+            src.Scalars = ["POINTS", "contact_pressure"]
+            if hasattr(src, "ThresholdMethod"):  # ParaView 5.10 and later
+                src.LowerThreshold, src.UpperThreshold = 1e-12 * pmax, pmax
+                src.ThresholdMethod = "Between"
+            else:
+                src.ThresholdRange = [1e-12 * pmax, pmax]
         if size != 1.0:
             src = pv.Calculator(Input=src)
             src.AttributeType = "Point Data"
