@@ -89,6 +89,14 @@ fn a_crack_in_gmsh_hexes_closes_on_faces_without_holes() {
     assert!(across.contains("normal = [0, 0, 1]"), "{across}");
     let (closed, s2) = common::run_text(&across, "crack-hex-across");
     assert!(s0.converged && s1.converged && s2.converged);
+    // `summary.json`'s force across the crack's faces: the load.
+    let report = pdcontact::run::report::fracture_reports(&closed);
+    let across = &report[0].precracks;
+    assert_eq!(across.len(), 1, "{report:?}");
+    assert!(
+        (across[0].force_across / 5e5 - 1.0).abs() < 1e-3 && across[0].pressed > 0,
+        "{report:?}"
+    );
     let (whole, cut, closed) = (
         whole.bodies[0].as_pd().expect("deformable"),
         cut.bodies[0].as_pd().expect("deformable"),

@@ -167,6 +167,28 @@ pub struct FractureReport {
     pub new_surface_particles: usize,
     pub new_surface_tested: usize,
     pub new_surface_seconds: f64,
+    /// Where the body is its own master across its pre-cracks' faces: what each crack's faces
+    /// carry across.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub precracks: Vec<PrecrackReport>,
+}
+
+/// A pre-crack's two faces pressed together ([`crate::contact::ContactPass::crack`]): the
+/// force across them (`summary.json`).
+#[derive(Clone, Debug, Serialize)]
+pub struct PrecrackReport {
+    /// Which `[[precrack]]` of the scene (its index, from 0).
+    pub precrack: usize,
+    /// The crack plane's unit normal.
+    pub normal: [f64; 3],
+    /// The face particles of each side: behind the normal, in front of it.
+    pub particles: [usize; 2],
+    /// Those of them that a contact presses (as a slave, or as a segment's node).
+    pub pressed: usize,
+    /// The force the faces press each other with along the normal (N): the contact forces on
+    /// the side behind the normal, along minus it. A closed crack under a load normal to it
+    /// carries the load across here.
+    pub force_across: f64,
 }
 
 /// The [`FractureReport`] of each body with a failure state.
@@ -199,6 +221,25 @@ pub fn fracture_reports(model: &Model) -> Vec<FractureReport> {
                 new_surface_particles: surface.count(),
                 new_surface_tested: surface.tested,
                 new_surface_seconds: surface.seconds,
+                precracks: pd
+                    .crack_faces
+                    .iter()
+                    .map(|c| PrecrackReport {
+                        precrack: c.precrack,
+                        normal: c.normal.into(),
+                        particles: c.particles.each_ref().map(Vec::len),
+                        pressed: c
+                            .particles
+                            .iter()
+                            .flatten()
+                            .filter(|&&i| pd.contact_force[i as usize] != Vec3::zeros())
+                            .count(),
+                        force_across: -c.particles[0]
+                            .iter()
+                            .map(|&i| pd.contact_force[i as usize].dot(&c.normal))
+                            .sum::<f64>(),
+                    })
+                    .collect(),
             })
         })
         .collect()
