@@ -222,6 +222,17 @@ impl ContactPass {
         pass
     }
 
+    /// What multiplies the contact law's force and stiffness for slave `s` of `sb`: the
+    /// pass's weight, the slave's share of its particle on a symmetry plane, and on a
+    /// pre-crack's face the share of its cell its cut bonds carried (at a front inside the
+    /// body the bonds beyond it carry the rest, and the contact there, which reads the
+    /// compression of the material still bonded across as penetration, pressed the front's
+    /// particles with tens of times the load's pressure).
+    pub fn slave_scale(&self, sb: &PdBody, s: usize) -> f64 {
+        let area = self.area_share.get(s).copied().unwrap_or(1.0);
+        self.weight * sb.case.ghosts.share(s) * area
+    }
+
     /// Whether this pass presses the faces of a pre-crack together ([`ContactPass::crack`]).
     pub fn is_crack(&self) -> bool {
         self.crack.as_ref().is_some_and(|c| c.edge_margin)

@@ -423,17 +423,6 @@ impl ContactPass {
         }
     }
 
-    /// What multiplies the contact law's force and stiffness for slave `s` of `sb`: the
-    /// pass's weight, the slave's share of its particle on a symmetry plane, and on a
-    /// pre-crack's face the share of its cell its cut bonds carried (at a front inside the
-    /// body the bonds beyond it carry the rest, and the contact there, which reads the
-    /// compression of the material still bonded across as penetration, pressed the front's
-    /// particles with tens of times the load's pressure).
-    pub fn slave_scale(&self, sb: &PdBody, s: usize) -> f64 {
-        let area = self.area_share.get(s).copied().unwrap_or(1.0);
-        self.weight * sb.case.ghosts.share(s) * area
-    }
-
     /// The master as this pass sees it (a crack's faces shifted onto its plane).
     fn view<'a>(&self, bodies: &'a [Body], shift: &'a [Vec3]) -> MasterView<'a> {
         match &bodies[self.master] {
