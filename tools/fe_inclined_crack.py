@@ -24,7 +24,7 @@ line in the distance from it and taken at the cut.
 
 The same on a gmsh mesh (tools/gmsh_inclined_block.py), from the runs' last frames:
 
-    python3 tools/fe_inclined_crack.py --frames CUT WHOLE [--z0 0.5125] [--n 20]
+    python3 tools/fe_inclined_crack.py --frames CUT WHOLE [--z0 0.5125] [--n 20] [--nu 0.3]
 
 Needs ccx (apt-get install calculix-ccx) and numpy; --frames also python3 vtk.
 """
@@ -234,6 +234,7 @@ def pd_frames(cut, whole, z0):
 
 
 def main():
+    global NU
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("pd", nargs="*", help="what `pdcontact fracture --case closing --json` printed")
     ap.add_argument("--frames", nargs=2, metavar=("CUT", "WHOLE"),
@@ -244,7 +245,9 @@ def main():
                     help="elements along x (half as many along y and along z in each part)")
     ap.add_argument("--penalty", type=float, default=1e13, help="contact penalty, Pa/m")
     ap.add_argument("--workdir", help="keep CalculiX's files here")
+    ap.add_argument("--nu", type=float, default=NU, help="Poisson's ratio (the PD runs' own)")
     args = ap.parse_args()
+    NU = args.nu
     if args.frames:
         pds = [pd_frames(*args.frames, args.z0)]
         z0 = args.z0
@@ -270,7 +273,7 @@ def main():
         if not args.workdir:
             shutil.rmtree(workdir, ignore_errors=True)
     mm = 1e3
-    print(f"cut at z0 = {z0} m (x = 0), 30 degrees; lengths in mm")
+    print(f"cut at z0 = {z0} m (x = 0), 30 degrees, nu = {NU}; lengths in mm")
     print("| model | top, whole | top, cut | cut less whole | slide along the cut | wall |")
     print("|---|---:|---:|---:|---:|---:|")
     for n, fw, fc in rows:
