@@ -82,6 +82,24 @@ fn field_value(vtu: &Path, name: &str) -> f64 {
         .expect("number")
 }
 
+/// What `view.py --focus` prints (Python's vtk, no ParaView): the camera it would use, the
+/// caption and the legend, as JSON. Run from another folder: the script finds its run by
+/// its own place.
+fn focus(script: &Path) -> serde_json::Value {
+    let run = Command::new("python3")
+        .arg(script)
+        .arg("--focus")
+        .current_dir(std::env::temp_dir())
+        .output()
+        .expect("python3 runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    serde_json::from_slice(&run.stdout).expect("JSON")
+}
+
 /// Block and dataset names of a frame, and its files.
 fn frame(out: &Path, vtm: &str) -> (Vec<String>, Vec<String>, Vec<String>) {
     let text = std::fs::read_to_string(out.join(vtm)).expect("vtm");
@@ -142,18 +160,7 @@ fn view_focus(out: &Path) {
         );
         return;
     }
-    let run = Command::new("python3")
-        .arg(&script)
-        .arg("--focus")
-        .current_dir(std::env::temp_dir())
-        .output()
-        .expect("python3 runs");
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    let r: serde_json::Value = serde_json::from_slice(&run.stdout).expect("JSON");
+    let r = focus(&script);
     assert_eq!(r["masters"], serde_json::json!(["floor"]));
     assert_eq!(r["slaves"], serde_json::json!(["block"]));
     assert!(r["loaded"].as_u64().expect("count") > 0, "{r}");
@@ -251,17 +258,7 @@ fn view_py_renders_the_contact_in_paraview() {
         String::from_utf8_lossy(&demo.stderr)
     );
     let script = out.join("view.py");
-    let focus = Command::new("python3")
-        .arg(&script)
-        .arg("--focus")
-        .output()
-        .expect("python3 runs");
-    assert!(
-        focus.status.success(),
-        "{}",
-        String::from_utf8_lossy(&focus.stderr)
-    );
-    let r: serde_json::Value = serde_json::from_slice(&focus.stdout).expect("JSON");
+    let r = focus(&script);
     let caption = r["caption"].as_str().expect("caption");
     assert!(
         caption.starts_with("ball on plane\nload factor 1 (Newton iteration "),
@@ -347,17 +344,7 @@ fn view_py_looks_at_the_damage_from_its_side() {
         return;
     }
     let script = out.join("view.py");
-    let focus = Command::new("python3")
-        .arg(&script)
-        .arg("--focus")
-        .output()
-        .expect("python3 runs");
-    assert!(
-        focus.status.success(),
-        "{}",
-        String::from_utf8_lossy(&focus.stderr)
-    );
-    let r: serde_json::Value = serde_json::from_slice(&focus.stdout).expect("JSON");
+    let r = focus(&script);
     assert!(r["damaged"].as_u64().expect("count") > 0, "{r}");
     assert!(r["normal"][2].as_f64().expect("nz") > 0.99, "{r}");
     let centre = &r["centre"];
@@ -455,17 +442,7 @@ slave = "block"
 master = "block"
 "#;
     let out = run("crack-view", text);
-    let run = Command::new("python3")
-        .arg(out.join("view.py"))
-        .arg("--focus")
-        .output()
-        .expect("python3 runs");
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    let r: serde_json::Value = serde_json::from_slice(&run.stdout).expect("JSON");
+    let r = focus(&out.join("view.py"));
     assert!(r["loaded"].as_u64().expect("count") > 0, "{r}");
     assert!(r["normal"][2].as_f64().expect("nz").abs() > 0.99, "{r}");
     assert!(
