@@ -228,7 +228,14 @@ impl PdBody {
     }
 
     /// Builds the body from a PD case and a material.
-    pub fn new(name: &str, mut case: PdCase, material: Material) -> PdBody {
+    pub fn new(name: &str, case: PdCase, material: Material) -> PdBody {
+        PdBody::without(name, case, material, &[])
+    }
+
+    /// [`PdBody::new`] for a body whose directed bonds `b` with `cut[b]` a pre-crack cuts
+    /// before the run (they are broken after, by [`PdBody::break_bonds`]): an LPS body's
+    /// weighted volumes and corrections are those of a body without them ([`Lps::without`]).
+    pub fn without(name: &str, mut case: PdCase, material: Material, cut: &[bool]) -> PdBody {
         let c = micromodulus(material.youngs, case.horizon);
         let n = case.particles.len();
         let vol = &case.particles.volume;
@@ -238,7 +245,13 @@ impl PdBody {
         let mut stiffness = vec![0.0; n];
         let lps = (material.model == MaterialModel::Lps).then(|| {
             let position_aware = material.influence == InfluenceFunction::PositionAware;
-            let mut lps = Lps::new(&case, material.youngs, material.poisson, position_aware);
+            let mut lps = Lps::without(
+                &case,
+                material.youngs,
+                material.poisson,
+                position_aware,
+                cut,
+            );
             // `skin_correction` (on by default) asks for the LPS's own ([`lps::skin_factors`]).
             if case.skin.is_some() {
                 let (factor, normal) = lps::skin_factors(&lps, &case);

@@ -99,6 +99,20 @@ impl Lps {
     /// its surface effect corrected by the position-aware influence functions
     /// ([`position_aware`]) or by a factor per particle ([`surface_factors`]).
     pub fn new(case: &PdCase, youngs: f64, poisson: f64, position_aware: bool) -> Lps {
+        Lps::without(case, youngs, poisson, position_aware, &[])
+    }
+
+    /// [`Lps::new`] without the directed bonds `b` where `cut[b]` (a pre-crack's, cut before
+    /// the run): their partners out of each particle's weighted volume, surface correction and
+    /// position-aware weights, as though the case had been built without them. (Bonds that
+    /// break during a run leave these as built.)
+    pub fn without(
+        case: &PdCase,
+        youngs: f64,
+        poisson: f64,
+        position_aware: bool,
+        cut: &[bool],
+    ) -> Lps {
         let n = case.particles.len();
         let bonds = &case.bonds;
         let partner_vol = case.ghosts.partner_volumes(&case.particles.volume);
@@ -119,7 +133,11 @@ impl Lps {
             for b in bonds.range(i) {
                 let j = bonds.partner[b] as usize;
                 let l = bonds.length(b);
-                let v = v_c(i, j, l) * partner_vol[j];
+                let v = if cut.get(b) == Some(&true) {
+                    0.0
+                } else {
+                    v_c(i, j, l) * partner_vol[j]
+                };
                 bond_volume.push(v);
                 *m += v * l * l;
             }
