@@ -492,8 +492,10 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
             // across closed 12 % softer than on the pre-crack's own faces (docs/FRACTURE.md,
             // "An LPS body's cracks").
             let mut cut_bonds = Vec::new();
+            let mut crack_share = Vec::new();
             if found_faces && !patches.is_empty() {
-                case.correct_without(&patches, method, skin)
+                crack_share = case
+                    .correct_without(&patches, method, skin)
                     .map_err(cut_error)?;
                 if m.model == MaterialModel::Lps {
                     cut_bonds = crossing_bonds(&case, &patches);
@@ -512,6 +514,7 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
                 &cut_bonds,
             );
             body.kinematics = spec.kinematics;
+            body.crack_share = crack_share;
             let s0 = match (m.fracture_energy, m.critical_stretch) {
                 (Some(g0), _) => Some(match m.model {
                     MaterialModel::Lps => fracture::critical_stretch_lps,

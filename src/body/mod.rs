@@ -127,6 +127,15 @@ pub struct PdBody {
     pub crack_faces: Vec<CrackFaces>,
     /// The particle pairs each `[[precrack]]` parted ([`PdBody::crossed_crack`]).
     pub precrack_pairs: Vec<crate::case::crack_faces::PartedPairs>,
+    /// Where the body is pressed on the faces its broken bonds opened: the pressure areas
+    /// as built (`case.segments.pressure_area` then adds the new faces' areas,
+    /// [`PdBody::set_opened_faces`]) and the surface's normals, found again ones included.
+    pub opened: Option<(Vec<f64>, Vec<Vec3>)>,
+    /// Where it is pressed on the faces found again of its pre-cracks: per particle, the share
+    /// of its bonds across a crack's plane that the pre-cracks cut (1 through the body, less
+    /// at a front inside it; [`crate::case::crack_faces::CrackFaces::share`]), by which its
+    /// penalty is scaled as on a pre-crack's own faces; empty otherwise.
+    pub crack_share: Vec<f64>,
 }
 
 /// A body's friction forces in the last evaluation, per particle.
@@ -180,12 +189,55 @@ impl PdBody {
         (self.contact_force[i] - t - reaction + reaction * scale).norm()
     }
 
+    /// The new faces made of the surface its broken bonds opened ([`new_faces::NewFaces`]):
+    /// each of their particles takes its share of their area as pressure area on top of the
+    /// one it was built with (so that `contact_pressure` reads on a crack's faces as on a
+    /// mesh's), and the normals found again serve where the surface's are read.
+    pub fn set_opened_faces(&mut self, faces: &new_faces::NewFaces) {
+        let n = self.len();
+        let (built, _) = self
+            .opened
+            .take()
+            .unwrap_or_else(|| (self.case.segments.pressure_area.clone(), Vec::new()));
+        // The face ends at the surface as built and goes on across a symmetry plane.
+        let bounded: Vec<bool> = (0..n)
+            .map(|i| self.case.surface.is_surface[i] || self.case.ghosts.on_plane[i] != 0)
+            .collect();
+        let added = faces.areas(&self.reference[..n], &bounded, self.spacing());
+        // A particle on the body's outer face as well (a crack's edge) takes the new face's
+        // area in place of its outer face's, as a pre-crack's mouth does
+        // ([`crate::case::crack_faces`]); with both, the faces' particles away from the sides
+        // of the gmsh tet10 block cut across read 1.025 and 1.037 of the load (with the new
+        // face's alone, 1.004 and 1.015).
+        self.case.segments.pressure_area = built
+            .iter()
+            .zip(&added)
+            .map(|(&a, &b)| if b > 0.0 { b } else { a })
+            .collect();
+        self.opened = Some((built, faces.normal.clone()));
+    }
+
+    /// Outward unit normals of the surface particles: those found again where the body is
+    /// pressed on the faces its broken bonds opened ([`Self::set_opened_faces`]), else those
+    /// as built.
+    pub fn surface_normals(&self) -> &[Vec3] {
+        match &self.opened {
+            Some((_, normal)) if normal.len() == self.len() => normal,
+            _ => &self.case.surface.normal,
+        }
+    }
+
     /// `A*_i / A_i`: what turns a master's reactions, lumped by tributary area, into the
     /// force of its pressure area ([`Self::pressure_force`]).
     fn reaction_scale(&self, i: usize) -> f64 {
         let tributary = self.case.segments.tributary_area[i];
+        // The areas as built: the tributary areas are of the segments as built.
+        let area = match &self.opened {
+            Some((built, _)) => built[i],
+            None => self.case.segments.pressure_area[i],
+        };
         if tributary > 0.0 {
-            self.case.segments.pressure_area[i] / tributary
+            area / tributary
         } else {
             1.0
         }
@@ -316,6 +368,8 @@ impl PdBody {
             friction: None,
             crack_faces: Vec::new(),
             precrack_pairs: Vec::new(),
+            opened: None,
+            crack_share: Vec::new(),
             pairs: PairList::from_bonds(
                 bonds,
                 &bond_weight,

@@ -82,6 +82,63 @@ pub struct NewFaces {
     pub flat: Vec<u32>,
 }
 
+impl NewFaces {
+    /// Per particle of a body (reference positions `x`; `bounded`: on the surface as built
+    /// or on a symmetry plane; particle spacing `spacing`): the area of the new faces over
+    /// which it carries a contact's load, zero off them. Its share of each new segment, a
+    /// third of a triangle, a quarter of a quad; on a flat face the segment's area on the
+    /// face's plane (its particles stand up to a spacing off it, and the triangles between
+    /// them lean). A particle stands for a cell, so where a face ends inside the body (a
+    /// crack's front) the face reaches half a spacing beyond its last particles: each edge of
+    /// the face's outline between two particles not `bounded` adds that strip to them, half
+    /// each. Without it a front's particles had about half their cell, and the contact
+    /// pressure there read up to four times the load (docs/FRACTURE.md, "The pressure on the
+    /// faces found again"). Where the face meets the body's surface its particles are on it,
+    /// and it ends there; across a symmetry plane it goes on.
+    pub fn areas(&self, x: &[Vec3], bounded: &[bool], spacing: f64) -> Vec<f64> {
+        let n = x.len().min(bounded.len());
+        let mut area = vec![0.0; n];
+        let mut edges: Vec<(u32, u32)> = Vec::new();
+        for s in &self.segments {
+            let corners: &[u32] = if s.is_triangle() {
+                &s.nodes[..3]
+            } else {
+                &s.nodes
+            };
+            let plane = self.flat[corners[0] as usize];
+            let on_plane =
+                plane != u32::MAX && corners.iter().all(|&c| self.flat[c as usize] == plane);
+            let a = if on_plane {
+                s.area * s.normal.dot(&self.planes[plane as usize].1).abs()
+            } else {
+                s.area
+            };
+            for (k, &c) in corners.iter().enumerate() {
+                area[c as usize] += a / corners.len() as f64;
+                let d = corners[(k + 1) % corners.len()];
+                edges.push((c.min(d), c.max(d)));
+            }
+        }
+        // The outline: the edges of one segment alone.
+        edges.sort_unstable();
+        let mut k = 0;
+        while k < edges.len() {
+            let mut m = k + 1;
+            while m < edges.len() && edges[m] == edges[k] {
+                m += 1;
+            }
+            let (a, b) = (edges[k].0 as usize, edges[k].1 as usize);
+            if m == k + 1 && !bounded[a] && !bounded[b] {
+                let strip = 0.25 * (x[a] - x[b]).norm() * spacing;
+                area[a] += strip;
+                area[b] += strip;
+            }
+            k = m;
+        }
+        area
+    }
+}
+
 /// The faces of `pd`'s surface that `found` holds (up to date; `None`: no bond broken), and
 /// its surface particles.
 pub fn new_faces(pd: &PdBody, found: Option<&Found>) -> NewFaces {

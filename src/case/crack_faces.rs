@@ -277,15 +277,25 @@ impl PdCase {
     /// beside a cut lost the bonds across it, and their correction for the body whole leaves
     /// them soft; the skin correction stiffens the faces' rows and, computed again over all
     /// the bonds, the outer faces' rows as built (docs/FRACTURE.md, "Master segments on the
-    /// faces found again"). The crossing bonds' factors are 0. `Err` as [`Self::cut`]'s.
+    /// faces found again"). The crossing bonds' factors are 0. Returns, per particle, the
+    /// share of its bonds across a crack's plane that the patches cut ([`CrackFaces::share`];
+    /// 1 off the faces). `Err` as [`Self::cut`]'s.
     pub fn correct_without(
         &mut self,
         patches: &[(usize, CrackPatch)],
         method: CorrectionMethod,
         skin: bool,
-    ) -> Result<(), (usize, String)> {
+    ) -> Result<Vec<f64>, (usize, String)> {
         let mut cut = self.clone();
-        cut.cut(patches, method, skin)?;
+        let faces = cut.cut(patches, method, skin)?.faces;
+        let mut share = vec![1.0; self.particles.len()];
+        for f in &faces {
+            for (list, lost) in f.particles.iter().zip(&f.share) {
+                for (&p, &a) in list.iter().zip(lost) {
+                    share[p as usize] = f64::min(share[p as usize], a);
+                }
+            }
+        }
         // `without` keeps each particle's bonds in their order: walk both lists together.
         let mut factor = vec![0.0; self.bonds.len()];
         for i in 0..self.bonds.particles() {
@@ -302,7 +312,7 @@ impl PdCase {
         self.correction = cut.correction;
         self.correction.bond_factor = factor;
         self.skin = cut.skin;
-        Ok(())
+        Ok(share)
     }
 }
 

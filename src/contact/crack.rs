@@ -125,6 +125,11 @@ impl ContactPass {
         pass.reference_normals =
             super::normal::reference_normals(super::MasterView::Shifted(pd, &master));
         pass.shift = Arc::new(master);
+        // A front of a pre-crack inside the body: its particles press with the share of their
+        // bonds across that the pre-crack cut, as on its own faces (`ContactPass::crack`).
+        if pd.crack_share.len() == pd.len() {
+            pass.area_share = Arc::new(pd.crack_share.clone());
+        }
         pass.found = Some(FoundFaces {
             onto: slave,
             built,

@@ -51,6 +51,7 @@ pub(super) fn found_faces_pass(
         None => new_faces(pd, None),
     };
     let pd = bodies[s].as_pd_mut().expect("checked deformable");
+    pd.set_opened_faces(&faces);
     let segments = &mut pd.case.segments.segments;
     segments.truncate(built);
     segments.extend_from_slice(&faces.segments);

@@ -52,7 +52,7 @@ pub fn normal_forces(pd: &PdBody) -> Vec<f64> {
 pub fn surface_loads<T>(pd: &PdBody, force: &[f64], query: impl FnOnce(&SurfaceLoads) -> T) -> T {
     query(&SurfaceLoads {
         position: &pd.case.particles.position,
-        normal: &pd.case.surface.normal,
+        normal: pd.surface_normals(),
         area: &pd.case.segments.pressure_area,
         force,
         planes: &pd.case.ghosts.planes,
