@@ -451,15 +451,13 @@ fn the_faces_found_again_read_the_load_as_contact_pressure() {
             "name = \"block\"\nsecond_order = \"all-nodes\"\n",
         )
     };
-    let meshes: [(&str, Box<dyn Fn(String) -> String>); 3] = [
-        ("tet4", Box::new(on_mesh)),
-        ("tet10", Box::new(tet10)),
-        (
-            "hexes",
-            Box::new(|t| on_stored(t, "inclined_block_hex_h012.msh")),
-        ),
-    ];
-    for (name, on) in meshes {
+    let hexes = |t| on_stored(t, "inclined_block_hex_h012.msh");
+    for name in ["tet4", "tet10", "hexes"] {
+        let on = match name {
+            "tet4" => on_mesh,
+            "tet10" => tet10,
+            _ => hexes,
+        };
         let text = on(inclined_scene(0.05, true))
             .replace(
                 "normal = [0.49999999999999994, 0, 0.8660254037844387]",
