@@ -498,7 +498,7 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
                     .correct_without(&patches, method, skin)
                     .map_err(cut_error)?;
                 if m.model == MaterialModel::Lps {
-                    cut_bonds = crossing_bonds(&case, &patches);
+                    cut_bonds = Fracture::crossing_bonds(&case, &patches);
                 }
             }
             let mut body = PdBody::without(
@@ -694,28 +694,4 @@ fn parted(body: &PdBody, patch: &CrackPatch, cut: &[(u32, u32)]) -> Vec<(u32, u3
             })
         })
         .collect()
-}
-
-/// Per directed bond of `case`: whether one of `patches` cuts it (both directions of a pair
-/// of real particles, as [`PdBody::break_bonds`] breaks them).
-fn crossing_bonds(case: &PdCase, patches: &[(usize, CrackPatch)]) -> Vec<bool> {
-    let bonds = &case.bonds;
-    let n = bonds.particles();
-    let mut x = Vec::new();
-    case.ghosts
-        .extend_positions(&case.particles.position, &mut x);
-    let mut cut = vec![false; bonds.len()];
-    for (_, patch) in patches {
-        for (i, b) in Fracture::crossing(bonds, &x, patch) {
-            let (i, b) = (i as usize, b as usize);
-            cut[b] = true;
-            let j = bonds.partner[b] as usize;
-            if j < n {
-                if let Some(c) = bonds.range(j).find(|&c| bonds.partner[c] as usize == i) {
-                    cut[c] = true;
-                }
-            }
-        }
-    }
-    cut
 }

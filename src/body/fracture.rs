@@ -240,6 +240,30 @@ impl Fracture {
         patch.crossing(bonds, x)
     }
 
+    /// Per directed bond of `case`: whether one of `patches` cuts it (both directions of a
+    /// pair of real particles, as [`Fracture::break_bonds`] breaks them).
+    pub fn crossing_bonds(case: &PdCase, patches: &[(usize, CrackPatch)]) -> Vec<bool> {
+        let bonds = &case.bonds;
+        let n = bonds.particles();
+        let mut x = Vec::new();
+        case.ghosts
+            .extend_positions(&case.particles.position, &mut x);
+        let mut cut = vec![false; bonds.len()];
+        for (_, patch) in patches {
+            for (i, b) in Fracture::crossing(bonds, &x, patch) {
+                let (i, b) = (i as usize, b as usize);
+                cut[b] = true;
+                let j = bonds.partner[b] as usize;
+                if j < n {
+                    if let Some(c) = bonds.range(j).find(|&c| bonds.partner[c] as usize == i) {
+                        cut[c] = true;
+                    }
+                }
+            }
+        }
+        cut
+    }
+
     /// The fragments: groups of particles joined by intact bonds (mirror images aside), as
     /// the size of each, largest first.
     pub fn fragments(&self, bonds: &BondList) -> Vec<usize> {

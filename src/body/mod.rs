@@ -189,44 +189,6 @@ impl PdBody {
         (self.contact_force[i] - t - reaction + reaction * scale).norm()
     }
 
-    /// The new faces made of the surface its broken bonds opened ([`new_faces::NewFaces`]):
-    /// each of their particles takes its share of their area as pressure area on top of the
-    /// one it was built with (so that `contact_pressure` reads on a crack's faces as on a
-    /// mesh's), and the normals found again serve where the surface's are read.
-    pub fn set_opened_faces(&mut self, faces: &new_faces::NewFaces) {
-        let n = self.len();
-        let (built, _) = self
-            .opened
-            .take()
-            .unwrap_or_else(|| (self.case.segments.pressure_area.clone(), Vec::new()));
-        // The face ends at the surface as built and goes on across a symmetry plane.
-        let bounded: Vec<bool> = (0..n)
-            .map(|i| self.case.surface.is_surface[i] || self.case.ghosts.on_plane[i] != 0)
-            .collect();
-        let added = faces.areas(&self.reference[..n], &bounded, self.spacing());
-        // A particle on the body's outer face as well (a crack's edge) takes the new face's
-        // area in place of its outer face's, as a pre-crack's mouth does
-        // ([`crate::case::crack_faces`]); with both, the faces' particles away from the sides
-        // of the gmsh tet10 block cut across read 1.025 and 1.037 of the load (with the new
-        // face's alone, 1.004 and 1.015).
-        self.case.segments.pressure_area = built
-            .iter()
-            .zip(&added)
-            .map(|(&a, &b)| if b > 0.0 { b } else { a })
-            .collect();
-        self.opened = Some((built, faces.normal.clone()));
-    }
-
-    /// Outward unit normals of the surface particles: those found again where the body is
-    /// pressed on the faces its broken bonds opened ([`Self::set_opened_faces`]), else those
-    /// as built.
-    pub fn surface_normals(&self) -> &[Vec3] {
-        match &self.opened {
-            Some((_, normal)) if normal.len() == self.len() => normal,
-            _ => &self.case.surface.normal,
-        }
-    }
-
     /// `A*_i / A_i`: what turns a master's reactions, lumped by tributary area, into the
     /// force of its pressure area ([`Self::pressure_force`]).
     fn reaction_scale(&self, i: usize) -> f64 {
