@@ -514,7 +514,7 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
                 &cut_bonds,
             );
             body.kinematics = spec.kinematics;
-            body.crack_share = crack_share;
+            body.crack_share = Arc::new(crack_share);
             let s0 = match (m.fracture_energy, m.critical_stretch) {
                 (Some(g0), _) => Some(match m.model {
                     MaterialModel::Lps => fracture::critical_stretch_lps,

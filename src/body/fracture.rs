@@ -206,7 +206,6 @@ impl Fracture {
         pairs: &mut PairList,
         mut lps: Option<&mut Lps>,
     ) {
-        let n = bonds.particles();
         for &(i, b) in broken {
             let (i, b) = (i as usize, b as usize);
             if !self.intact[b] {
@@ -223,10 +222,8 @@ impl Fracture {
                 self.lost[k] += f64::from(self.volume[c]);
             };
             cut(i, b);
-            if j < n {
-                if let Some(c) = bonds.range(j).find(|&c| bonds.partner[c] as usize == i) {
-                    cut(j, c);
-                }
+            if let Some(c) = bonds.reverse(i, b) {
+                cut(j, c);
             }
             pairs.remove(i, j);
             self.surface.broke(i, j);
@@ -244,7 +241,6 @@ impl Fracture {
     /// pair of real particles, as [`Fracture::break_bonds`] breaks them).
     pub fn crossing_bonds(case: &PdCase, patches: &[(usize, CrackPatch)]) -> Vec<bool> {
         let bonds = &case.bonds;
-        let n = bonds.particles();
         let mut x = Vec::new();
         case.ghosts
             .extend_positions(&case.particles.position, &mut x);
@@ -253,11 +249,8 @@ impl Fracture {
             for (i, b) in Fracture::crossing(bonds, &x, patch) {
                 let (i, b) = (i as usize, b as usize);
                 cut[b] = true;
-                let j = bonds.partner[b] as usize;
-                if j < n {
-                    if let Some(c) = bonds.range(j).find(|&c| bonds.partner[c] as usize == i) {
-                        cut[c] = true;
-                    }
+                if let Some(c) = bonds.reverse(i, b) {
+                    cut[c] = true;
                 }
             }
         }

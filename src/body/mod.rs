@@ -128,14 +128,15 @@ pub struct PdBody {
     /// The particle pairs each `[[precrack]]` parted ([`PdBody::crossed_crack`]).
     pub precrack_pairs: Vec<crate::case::crack_faces::PartedPairs>,
     /// Where the body is pressed on the faces its broken bonds opened: the pressure areas
-    /// as built (`case.segments.pressure_area` then adds the new faces' areas,
-    /// [`PdBody::set_opened_faces`]) and the surface's normals, found again ones included.
+    /// as built (`case.segments.pressure_area` then holds the new faces' areas where they
+    /// have some, [`PdBody::set_opened_faces`]) and the surface's normals, found again ones
+    /// included.
     pub opened: Option<(Vec<f64>, Vec<Vec3>)>,
     /// Where it is pressed on the faces found again of its pre-cracks: per particle, the share
     /// of its bonds across a crack's plane that the pre-cracks cut (1 through the body, less
     /// at a front inside it; [`crate::case::crack_faces::CrackFaces::share`]), by which its
     /// penalty is scaled as on a pre-crack's own faces; empty otherwise.
-    pub crack_share: Vec<f64>,
+    pub crack_share: std::sync::Arc<Vec<f64>>,
 }
 
 /// A body's friction forces in the last evaluation, per particle.
@@ -331,7 +332,7 @@ impl PdBody {
             crack_faces: Vec::new(),
             precrack_pairs: Vec::new(),
             opened: None,
-            crack_share: Vec::new(),
+            crack_share: Default::default(),
             pairs: PairList::from_bonds(
                 bonds,
                 &bond_weight,
@@ -395,7 +396,7 @@ impl PdBody {
             }
             let j = bonds.partner[b] as usize;
             if j < n && self.owned.contains(&j) {
-                if let Some(c) = bonds.range(j).find(|&c| bonds.partner[c] as usize == i) {
+                if let Some(c) = bonds.reverse(i, b) {
                     if fr.intact[c] {
                         booked.push((j, self.bond_energy(j, c, pos)));
                     }

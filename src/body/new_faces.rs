@@ -140,10 +140,11 @@ impl NewFaces {
 }
 
 impl PdBody {
-    /// The new faces made of the surface its broken bonds opened ([`NewFaces`]):
-    /// each of their particles takes its share of their area as pressure area on top of the
-    /// one it was built with (so that `contact_pressure` reads on a crack's faces as on a
-    /// mesh's), and the normals found again serve where the surface's are read.
+    /// The new faces made of the surface its broken bonds opened ([`NewFaces`]): each of
+    /// their particles takes its share of their area ([`NewFaces::areas`]) as its pressure
+    /// area, in place of the one it was built with (so that `contact_pressure` reads on a
+    /// crack's faces as on a mesh's), and the normals found again serve where the surface's
+    /// are read.
     pub fn set_opened_faces(&mut self, faces: &NewFaces) {
         let n = self.len();
         let (built, _) = self

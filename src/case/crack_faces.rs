@@ -288,14 +288,7 @@ impl PdCase {
     ) -> Result<Vec<f64>, (usize, String)> {
         let mut cut = self.clone();
         let faces = cut.cut(patches, method, skin)?.faces;
-        let mut share = vec![1.0; self.particles.len()];
-        for f in &faces {
-            for (list, lost) in f.particles.iter().zip(&f.share) {
-                for (&p, &a) in list.iter().zip(lost) {
-                    share[p as usize] = f64::min(share[p as usize], a);
-                }
-            }
-        }
+        let share = CrackFaces::shares(&faces, self.particles.len());
         // `without` keeps each particle's bonds in their order: walk both lists together.
         let mut factor = vec![0.0; self.bonds.len()];
         for i in 0..self.bonds.particles() {
@@ -408,6 +401,20 @@ pub struct CrackFaces {
 }
 
 impl CrackFaces {
+    /// Per particle of a body of `n`: the share of its bonds across a crack's plane that the
+    /// cracks `faces` cut (the smallest where it is on several; 1 off their faces).
+    pub fn shares(faces: &[CrackFaces], n: usize) -> Vec<f64> {
+        let mut share = vec![1.0; n];
+        for f in faces {
+            for (list, lost) in f.particles.iter().zip(&f.share) {
+                for (&p, &a) in list.iter().zip(lost) {
+                    share[p as usize] = f64::min(share[p as usize], a);
+                }
+            }
+        }
+        share
+    }
+
     /// The side of the body's segment `s` (`None` for a segment not of this crack).
     pub fn side_of_segment(&self, s: usize) -> Option<u8> {
         s.checked_sub(self.first_segment)

@@ -224,6 +224,16 @@ impl BondList {
         self.offsets[i]..self.offsets[i + 1]
     }
 
+    /// The bond back to `i` from the partner of its bond `b`, where that partner is a real
+    /// particle (`None` for a mirror image, whose bonds are not listed).
+    pub fn reverse(&self, i: usize, b: usize) -> Option<usize> {
+        let j = self.partner[b] as usize;
+        if j >= self.particles() {
+            return None;
+        }
+        self.range(j).find(|&c| self.partner[c] as usize == i)
+    }
+
     /// Reference length of bond `b`.
     #[inline]
     pub fn length(&self, b: usize) -> f64 {

@@ -128,7 +128,7 @@ impl ContactPass {
         // A front of a pre-crack inside the body: its particles press with the share of their
         // bonds across that the pre-crack cut, as on its own faces (`ContactPass::crack`).
         if pd.crack_share.len() == pd.len() {
-            pass.area_share = Arc::new(pd.crack_share.clone());
+            pass.area_share = pd.crack_share.clone();
         }
         pass.found = Some(FoundFaces {
             onto: slave,
@@ -195,13 +195,10 @@ impl ContactPass {
         pass.reference_normals =
             super::normal::reference_normals(super::MasterView::Shifted(pd, &shift));
         pass.shift = std::sync::Arc::new(shift);
-        let mut area_share = vec![1.0; pd.len()];
-        for (list, share) in f.particles.iter().zip(&f.share) {
-            for (&p, &a) in list.iter().zip(share) {
-                area_share[p as usize] = a;
-            }
-        }
-        pass.area_share = Arc::new(area_share);
+        pass.area_share = Arc::new(crate::case::crack_faces::CrackFaces::shares(
+            std::slice::from_ref(f),
+            pd.len(),
+        ));
         pass
     }
 
