@@ -181,6 +181,43 @@ fn the_static_solver_and_any_thread_count_give_the_same_bar() {
     assert!(u1 == u2, "one thread and the default pool differ");
 }
 
+/// The skin correction goes on the faces a contact partner can press alone
+/// (`body::facing`): the bar in a contact with a rigid plane 5 m below its symmetry plane
+/// z = 0, which no face of it faces, is the bar in no contact to the bit (before, every surface
+/// particle took the skin in any contact with another body: E +11 %); with the plane 5 m above
+/// its face z = 0.8 that face alone takes it, and the bar comes out stiffer than without.
+#[test]
+fn the_skin_goes_on_the_faces_a_partner_can_press() {
+    let with_plane = |z: f64, normal: f64| {
+        format!(
+            "{}[[body]]\nname = \"plane\"\nkind = \"rigid\"\ngenerator = {{ shape = \"plane\", point = [0.8, 0.4, {z}], normal = [0.0, 0.0, {normal}], size = 4.0 }}\n[[contact]]\nslave = \"bar\"\nmaster = \"plane\"\n",
+            scene("lps", 0.3, "static", true)
+        )
+    };
+    let (alone, u_alone) = bar_by("lps", 0.3, "static", false);
+    let (below, u_below) = figures(&run(&with_plane(-5.0, 1.0)));
+    eprintln!(
+        "ν = 0.3: no contact E {:+.2} %; plane below E {:+.2} %",
+        100.0 * (alone.0 / YOUNGS - 1.0),
+        100.0 * (below.0 / YOUNGS - 1.0)
+    );
+    assert!(
+        u_below == u_alone,
+        "a face that faces no partner took the skin"
+    );
+    let (above, _) = figures(&run(&with_plane(5.8, -1.0)));
+    eprintln!(
+        "plane above the face z = 0.8: E {:+.2} %",
+        100.0 * (above.0 / YOUNGS - 1.0)
+    );
+    assert!(
+        above.0 > 1.01 * alone.0,
+        "the face the plane faces took no skin: E {} against {}",
+        above.0,
+        alone.0
+    );
+}
+
 /// The Hertz sphere where its theory holds (a/R = 0.15) on a gmsh-default tet4 mesh
 /// (`meshes/sphere_cap_quarter_tet4.geo`: the demo's quarter cap, h = 0.02 m, 2,744
 /// particles) on a rigid plane, LPS at ν = 0.3 and 0.4, with and without the skin correction

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use nalgebra::{Rotation3, Unit};
 use pdcontact_importers::{boundary_faces, read_path, ElementKind, Format, Mesh};
 
+use super::facing::{self, Outline};
 use super::fracture::{self, CrackPatch, Fracture};
 use super::{Body, Material, PdBody, RigidBody};
 use crate::case::correction::CorrectionMethod;
@@ -501,6 +502,19 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
                     cut_bonds = Fracture::crossing_bonds(&case, &patches);
                 }
             }
+            // An LPS body's skin correction on the faces a partner can press alone.
+            let skin_on = (m.model == MaterialModel::Lps && skin)
+                .then(|| -> Result<Vec<bool>> {
+                    let partners = partner_outlines(scene, spec)?;
+                    Ok(facing::facing(
+                        &case.particles.position,
+                        &case.surface.normal,
+                        &case.surface.is_surface,
+                        &partners,
+                        case.particles.spacing,
+                    ))
+                })
+                .transpose()?;
             let mut body = PdBody::without(
                 &spec.name,
                 case,
@@ -512,6 +526,7 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
                     influence: m.influence_function.unwrap_or_default(),
                 },
                 &cut_bonds,
+                skin_on.as_deref(),
             );
             body.kinematics = spec.kinematics;
             body.crack_share = Arc::new(crack_share);
@@ -593,6 +608,39 @@ pub fn build_body_on(scene: &Scene, spec: &BodySpec, comm: Option<&Arc<dyn Comm>
             })))
         }
     }
+}
+
+/// The surfaces of the bodies in a contact with `spec`'s other than itself, as their meshes
+/// place them (the whole mesh, before any symmetry plane cuts it; a plane's patch).
+fn partner_outlines(scene: &Scene, spec: &BodySpec) -> Result<Vec<Outline>> {
+    let mut names: Vec<&str> = scene
+        .contacts
+        .iter()
+        .filter(|c| c.slave != c.master)
+        .filter_map(|c| {
+            if c.slave == spec.name {
+                Some(c.master.as_str())
+            } else if c.master == spec.name {
+                Some(c.slave.as_str())
+            } else {
+                None
+            }
+        })
+        .collect();
+    names.sort_unstable();
+    names.dedup();
+    let mut outlines = Vec::with_capacity(names.len());
+    for name in names {
+        let Some(partner) = scene.bodies.iter().find(|b| b.name == name) else {
+            continue;
+        };
+        let (vertices, faces) = match body_mesh(scene, partner)? {
+            Some(mesh) => rigid_faces(&mesh),
+            None => plane_faces(partner),
+        };
+        outlines.push(Outline::new(&vertices, &faces));
+    }
+    Ok(outlines)
 }
 
 /// Faces of a rigid mesh: boundary faces of its solids, or its 2-D elements as written.

@@ -10,6 +10,7 @@
 //! This module holds the body types; `build.rs` builds them from a scene ([`build_body`]).
 
 mod build;
+pub mod facing;
 pub mod fracture;
 pub mod lps;
 pub mod new_faces;
@@ -244,13 +245,21 @@ impl PdBody {
 
     /// Builds the body from a PD case and a material.
     pub fn new(name: &str, case: PdCase, material: Material) -> PdBody {
-        PdBody::without(name, case, material, &[])
+        PdBody::without(name, case, material, &[], None)
     }
 
     /// [`PdBody::new`] for a body whose directed bonds `b` with `cut[b]` a pre-crack cuts
     /// before the run (they are broken after, by [`PdBody::break_bonds`]): an LPS body's
     /// weighted volumes and corrections are those of a body without them ([`Lps::without`]).
-    pub fn without(name: &str, mut case: PdCase, material: Material, cut: &[bool]) -> PdBody {
+    /// An LPS body's skin correction goes on the surface particles `skin_on` marks where it is
+    /// given (those that face a contact partner, [`facing`]), on every one where `None`.
+    pub fn without(
+        name: &str,
+        mut case: PdCase,
+        material: Material,
+        cut: &[bool],
+        skin_on: Option<&[bool]>,
+    ) -> PdBody {
         let c = micromodulus(material.youngs, case.horizon);
         let n = case.particles.len();
         let vol = &case.particles.volume;
@@ -268,9 +277,12 @@ impl PdBody {
                 cut,
             );
             // `skin_correction` (on by default) asks for the LPS's own ([`lps::skin_factors`]).
+            // A body no partner faces takes none: the same bits as without it.
             if case.skin.is_some() {
-                let (factor, normal) = lps::skin_factors(&lps, &case);
-                lps.set_skin(&case, &factor, &normal);
+                let (factor, normal) = lps::skin_factors(&lps, &case, skin_on);
+                if factor.iter().any(|&k| k != 1.0) {
+                    lps.set_skin(&case, &factor, &normal);
+                }
             }
             lps
         });

@@ -53,8 +53,10 @@ fn uniaxial(lps: &Lps, case: &PdCase, x: &[Vec3], j: usize, f: Vec3, eps: f64) -
     (theta, (dev - theta * moment / 3.0) / 3.0)
 }
 
-/// Per real particle: the factor `k_i` (1 where none) and the normal it acts along.
-pub fn skin_factors(lps: &Lps, case: &PdCase) -> (Vec<f64>, Vec<Vec3>) {
+/// Per real particle: the factor `k_i` (1 where none) and the normal it acts along; on the
+/// surface particles `only` marks where it is given (every one where `None`: the bodies a
+/// partner may press anywhere; [`crate::body::facing`]).
+pub fn skin_factors(lps: &Lps, case: &PdCase, only: Option<&[bool]>) -> (Vec<f64>, Vec<Vec3>) {
     let n = case.particles.len();
     let bonds = &case.bonds;
     let mut x = Vec::new();
@@ -68,7 +70,11 @@ pub fn skin_factors(lps: &Lps, case: &PdCase) -> (Vec<f64>, Vec<Vec3>) {
     let factor: Vec<f64> = (0..n)
         .into_par_iter()
         .map(|i| {
-            if !case.surface.is_surface[i] || !(area[i] > 0.0) || !(m[i] > 0.0) {
+            if !case.surface.is_surface[i]
+                || !(area[i] > 0.0)
+                || !(m[i] > 0.0)
+                || only.is_some_and(|o| !o[i])
+            {
                 return 1.0;
             }
             let nrm = normal[i];
