@@ -62,11 +62,36 @@ fn view_script(model: &Model, iteration_word: &str) -> String {
         .filter(|&k| model.bodies[k].as_pd().is_some())
         .map(name)
         .collect();
+    // A body pressed on its own pre-cracks whose bonds cannot break: its damage is its cut's,
+    // the faces the contact presses, which the picture shows by their pressure instead.
+    let self_pressed: Vec<usize> = model
+        .contact_pairs()
+        .into_iter()
+        .filter(|(s, m)| s == m)
+        .map(|(s, _)| s)
+        .collect();
+    let damage: Vec<String> = (0..model.bodies.len())
+        .filter(|&k| {
+            model.bodies[k].as_pd().is_some_and(|pd| {
+                let breaks = pd
+                    .fracture
+                    .as_ref()
+                    .is_some_and(|f| f.critical_stretch.is_some());
+                breaks || !self_pressed.contains(&k)
+            })
+        })
+        .map(name)
+        .collect();
     VIEW_TEMPLATE
         .replacen("PAIRS = []", &format!("PAIRS = [{}]", pairs.join(", ")), 1)
         .replacen(
             "DEFORMABLE = []",
             &format!("DEFORMABLE = [{}]", deformable.join(", ")),
+            1,
+        )
+        .replacen(
+            "DAMAGE = []",
+            &format!("DAMAGE = [{}]", damage.join(", ")),
             1,
         )
         .replacen(
@@ -520,12 +545,14 @@ fn point_fields(
                 .map(|&i| (case.surface.is_surface[i] || opened(i)) as i32)
                 .collect(),
         ),
+        // Where the body is pressed on the faces found again, a crack's edge on the outer
+        // surface faces between the two faces, as the contact reads it.
         Field::vector(
             "normal",
             at.iter()
                 .map(|&i| match &opened_surface {
                     Some(s) if s.is_new[i] => s.normal[i],
-                    _ => case.surface.normal[i],
+                    _ => pd.surface_normals()[i],
                 })
                 .collect(),
         ),

@@ -20,7 +20,9 @@ format) from 0 to its largest value; the upper left corner names the contact pai
 frame: its load factor and iteration (ADR or the static solver) or its time (s) and step (explicit). Where bonds
 broke (a `damage` field above 0), the damaged particles are shown coloured by damage, from 0
 to 1, inside their bodies drawn faintly (the undamaged particles would hide them), seen along
-the axis in which the bodies are thinnest, from the side the damage lies on, centred on it.
+the axis in which the bodies are thinnest, from the side the damage lies on, centred on it;
+not in a body pressed on its own pre-cracks whose bonds cannot break (its damage is the cut,
+and the faces found again show their pressure).
 
 Offscreen, without a display, under a virtual X server that outlives pvpython's first client:
 
@@ -34,6 +36,9 @@ import xml.etree.ElementTree as ET
 # pdcontact for this run.
 PAIRS = []
 DEFORMABLE = []
+# The deformable bodies whose damage is shown: all but those pressed on their own pre-cracks
+# whose bonds cannot break (their damage is the cut, which the contact's pressure shows).
+DAMAGE = []
 # What a quasi-static frame's iteration counts: "ADR iteration" or "Newton iteration".
 ITERATION = "ADR iteration"
 
@@ -204,7 +209,7 @@ def damage_focus(blocks):
     in which the damaged bodies are thinnest; None without damage."""
     lo, hi, blo, bhi, count, dmax = [float("inf")] * 3, [float("-inf")] * 3, [float("inf")] * 3, [float("-inf")] * 3, 0, 0.0
     for name, g in blocks.items():
-        if name.split("/")[0] not in DEFORMABLE or "/particles" not in name:
+        if name.split("/")[0] not in DAMAGE or "/particles" not in name:
             continue
         a = g.GetPointData().GetArray("damage")
         if a is None:
