@@ -85,7 +85,7 @@ pub struct RunSummary {
     pub missed_contacts: usize,
     /// Force exerted through contact by rigid bodies on deformable bodies (for scenes without
     /// rigid bodies: on the slave body of each contact pair, through both passes of a two-pass
-    /// pair), N.
+    /// pair; a body pressed on itself exerts none on itself, so its own pairs are left out), N.
     pub total_contact_force: [f64; 3],
     /// Sum of the applied loads, N.
     pub applied_load: [f64; 3],
@@ -268,7 +268,13 @@ pub fn force_balance(model: &Model) -> (Vec3, Vec3, f64) {
         }
     }
     if !has_rigid {
+        // A body pressed on itself (its crack's faces, its pieces) pushes as much one way as
+        // the other: its own contacts exert no force on it (`fracture[].precracks[]
+        // .force_across` reads the force across a crack).
         for (k, p) in model.passes.iter().enumerate() {
+            if p.slave == p.master {
+                continue;
+            }
             let on_slaves = model.slave_force(k);
             // The second pass of a two-pass pair pushes the pair's master: on the pair's
             // slave body it acts through its reactions, the opposite of its slave forces.
@@ -281,7 +287,7 @@ pub fn force_balance(model: &Model) -> (Vec3, Vec3, f64) {
                 contact += on_slaves;
             }
         }
-        for p in &model.short_range {
+        for p in model.short_range.iter().filter(|p| p.slave != p.master) {
             contact += p.slave_force;
         }
     }

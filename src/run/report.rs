@@ -183,6 +183,9 @@ pub struct PrecrackReport {
     pub normal: [f64; 3],
     /// The face particles of each side: behind the normal, in front of it.
     pub particles: [usize; 2],
+    /// The bonds it cut before the body was made, each pair of real particles once (not
+    /// among `broken_bonds`, which counts the bonds that broke in the body as made).
+    pub bonds_cut: usize,
     /// Those of them that a contact presses (as a slave, or as a segment's node).
     pub pressed: usize,
     /// The force the faces press each other with along the normal (N): the contact forces on
@@ -228,6 +231,12 @@ pub fn fracture_reports(model: &Model) -> Vec<FractureReport> {
                         precrack: c.precrack,
                         normal: c.normal.into(),
                         particles: c.particles.each_ref().map(Vec::len),
+                        bonds_cut: pd
+                            .precrack_pairs
+                            .iter()
+                            .filter(|(k, _, _)| *k == c.precrack)
+                            .map(|(_, _, pairs)| pairs.len())
+                            .sum(),
                         pressed: c
                             .particles
                             .iter()
