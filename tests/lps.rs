@@ -195,7 +195,25 @@ fn the_skin_goes_on_the_faces_a_partner_can_press() {
         )
     };
     let (alone, u_alone) = bar_by("lps", 0.3, "static", false);
-    let (below, u_below) = figures(&run(&with_plane(-5.0, 1.0)));
+    let scene_below =
+        Scene::parse(&with_plane(-5.0, 1.0), "scene.toml", Path::new(".")).expect("scene");
+    let quiet = RunOptions {
+        output: None,
+        quiet: true,
+        stop: None,
+        comm: None,
+    };
+    let (model_below, summary) = run_scene(&scene_below, &quiet).expect("the scene runs");
+    // `run` says that no face takes the skin, and why.
+    assert!(
+        summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("none of its surface faces a body it is in a contact with")),
+        "{:?}",
+        summary.warnings
+    );
+    let (below, u_below) = figures(&model_below);
     eprintln!(
         "ν = 0.3: no contact E {:+.2} %; plane below E {:+.2} %",
         100.0 * (alone.0 / YOUNGS - 1.0),
