@@ -347,8 +347,9 @@ pub(super) fn lps_contact_warnings(scene: &Scene, model: &Model) -> Vec<String> 
                 ))
             } else if !skin {
                 Some(format!(
-                    "body \"{}\": model = \"lps\": none of its surface faces a body it is in a contact with as the scene places them, so none takes the skin correction (it goes on the faces within 75° of a partner's nearest point), and a contact that reaches it later comes out 6-10 % too wide on a gmsh tet sphere (docs/VALIDATION.md, \"The skin where a partner can press\"); place the bodies so that the faces to be pressed face each other",
-                    pd.name
+                    "body \"{}\": model = \"lps\": none of its surface faces a body it is in a contact with as the scene places them, so none takes the skin correction (it goes on the faces within {}° of a partner's nearest point), and a contact that reaches it later comes out 6-10 % too wide on a gmsh tet sphere (docs/VALIDATION.md, \"The skin where a partner can press\"); place the bodies so that the faces to be pressed face each other",
+                    pd.name,
+                    crate::body::facing::FACING_CONE_DEG
                 ))
             } else if nu > LPS_SKIN_NU {
                 Some(format!(
