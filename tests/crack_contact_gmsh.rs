@@ -30,6 +30,15 @@ fn on_stored(text: String, name: &str) -> String {
     )
 }
 
+/// [`on_stored`] on the stored tet10 block (`meshes/inclined_block_tet10_h012.msh`), every
+/// node a particle.
+fn on_stored_tet10(text: String) -> String {
+    on_stored(text, "inclined_block_tet10_h012.msh").replace(
+        "name = \"block\"\n",
+        "name = \"block\"\nsecond_order = \"all-nodes\"\n",
+    )
+}
+
 /// The 30° cut through gmsh's default tets: the half block of the test above meshed by
 /// `meshes/inclined_block_tet4_h005.geo` (4,071 particles), cut and whole, against CalculiX's
 /// top displacement (3.676 mm) and slide (5.870 mm) on the same geometry
@@ -154,13 +163,7 @@ fn a_crack_in_gmsh_hexes_closes_on_faces_without_holes() {
 /// iterations, the cut block 2.7 % more compliant than the whole.
 #[test]
 fn a_crack_in_gmsh_tet10_closes_where_it_meets_the_free_side() {
-    let tet10 = |text: String| {
-        on_stored(text, "inclined_block_tet10_h012.msh").replace(
-            "name = \"block\"\n",
-            "name = \"block\"\nsecond_order = \"all-nodes\"\n",
-        )
-    };
-    let across = tet10(inclined_scene(0.05, true)).replace(
+    let across = on_stored_tet10(inclined_scene(0.05, true)).replace(
         "normal = [0.49999999999999994, 0, 0.8660254037844387]",
         "normal = [0, 0, 1]",
     );
@@ -168,7 +171,10 @@ fn a_crack_in_gmsh_tet10_closes_where_it_meets_the_free_side() {
         across.contains("normal = [0, 0, 1]") && across.contains("all-nodes"),
         "{across}"
     );
-    let (whole, s0) = common::run_text(&tet10(inclined_scene(0.05, false)), "crack-t10-whole");
+    let (whole, s0) = common::run_text(
+        &on_stored_tet10(inclined_scene(0.05, false)),
+        "crack-t10-whole",
+    );
     let (closed, s1) = common::run_text(&across, "crack-t10-across");
     let (_, s2) = common::run_text(
         &across.replace("kind = \"adr\"", "kind = \"static\""),
@@ -452,17 +458,11 @@ fn an_lps_block_closes_its_crack_without_a_stiff_skin() {
 /// y < 0.35 m): tet4 0.976 and 0.993 MPa, tet10 1.004 and 1.015, hexes 1.004 and 1.013.
 #[test]
 fn the_faces_found_again_read_the_load_as_contact_pressure() {
-    let tet10 = |text: String| {
-        on_stored(text, "inclined_block_tet10_h012.msh").replace(
-            "name = \"block\"\n",
-            "name = \"block\"\nsecond_order = \"all-nodes\"\n",
-        )
-    };
     let hexes = |t| on_stored(t, "inclined_block_hex_h012.msh");
     for name in ["tet4", "tet10", "hexes"] {
         let on = match name {
             "tet4" => on_mesh,
-            "tet10" => tet10,
+            "tet10" => on_stored_tet10,
             _ => hexes,
         };
         let text = on(inclined_scene(0.05, true))

@@ -30,6 +30,11 @@ fn scene(model: &str, poisson: f64, solver: &str, skin: bool) -> String {
 /// Runs scene `text` to convergence, its frames in a folder of its own (the tests of this
 /// file run at once: one folder for all had one run's frames removed under another).
 fn run(text: &str) -> Model {
+    run_with_summary(text).0
+}
+
+/// [`run`], with the run's summary.
+fn run_with_summary(text: &str) -> (Model, pdcontact::run::RunSummary) {
     static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let n = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let dir = std::env::temp_dir().join(format!("pdcontact-lps-{}-{n}", std::process::id()));
@@ -43,7 +48,7 @@ fn run(text: &str) -> Model {
     let (model, summary) = run_scene(&scene, &options).expect("the scene runs");
     let _ = std::fs::remove_dir_all(&dir);
     assert!(summary.converged, "residual {}", summary.residual);
-    model
+    (model, summary)
 }
 
 /// (apparent E, ν from y, ν from z) of the bar in `model` with Poisson's ratio `poisson`.
@@ -195,15 +200,7 @@ fn the_skin_goes_on_the_faces_a_partner_can_press() {
         )
     };
     let (alone, u_alone) = bar_by("lps", 0.3, "static", false);
-    let scene_below =
-        Scene::parse(&with_plane(-5.0, 1.0), "scene.toml", Path::new(".")).expect("scene");
-    let quiet = RunOptions {
-        output: None,
-        quiet: true,
-        stop: None,
-        comm: None,
-    };
-    let (model_below, summary) = run_scene(&scene_below, &quiet).expect("the scene runs");
+    let (model_below, summary) = run_with_summary(&with_plane(-5.0, 1.0));
     // `run` says that no face takes the skin, and why.
     assert!(
         summary
