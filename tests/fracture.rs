@@ -176,12 +176,15 @@ fn a_slot_in_the_mesh_is_a_notch() {
     );
 }
 
-/// The increments' reactions and the bonds broken, bit for bit, on one and on two threads.
+/// The increments' reactions and the bonds broken, bit for bit, on one and on two threads
+/// (a coarser beam than the LEFM tests': Δ = 2.5 mm, 3 increments).
 #[test]
 fn bonds_fail_alike_on_any_thread_count() {
     let beam = NotchedBeam {
+        spacing: 0.0025,
+        thickness: 0.01,
         displacement: 0.0005,
-        steps: 5,
+        steps: 3,
         ..coarse()
     };
     let run = |threads: usize| {
