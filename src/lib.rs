@@ -16,10 +16,12 @@
 //! | output | [`output`] | [`vtk`](output::vtk) (VTK XML files), [`frames`](output::frames) (frames, `run.pvd`, progress), [`analysis`](output::analysis) (contact pressure and patch, Hertz and Sadowsky references), [`chart`](output::chart) (SVG charts) |
 //! | commands | [`run`], [`convert`] | a scene run to its frames and `summary.json` (`run/checks.rs`, `run/held.rs`: the checks before solving); a mesh turned into a case folder |
 //! | studies | [`studies`] | [`demo`](studies::demo), [`scenarios`](studies::scenarios) and [`comparison`](studies::comparison) (the validation scenes against theory), [`validate`](studies::validate), [`sweep`](studies::sweep), [`stability`](studies::stability), [`bench`](studies::bench), [`fracture`](studies::fracture) (the notched beam against LEFM, Kalthoff-Winkler) |
+//! | command line | [`cli`] | the arguments (clap), each command checked and run, its errors and exit codes |
 //!
 //! The body types come before the contact stage and the model after it: a model holds the
-//! contact passes, and a contact pass works on bodies. `src/bin/pdcontact/` is the command line, a
-//! thin shell over [`run`], [`convert`] and the studies.
+//! contact passes, and a contact pass works on bodies. The binaries are shells over
+//! [`cli::main`]: `src/bin/pdcontact/` runs in one process; the `pdcontact-mpi` package (`mpi/`) starts MPI and hands it a
+//! [`parallel::Comm`] on the system's MPI library, so that this library never needs one.
 //!
 //! The later stages read the scene's plain enums ([`Kinematics`](scene::Kinematics),
 //! [`Motion`](scene::Motion), [`PenaltyLaw`](scene::PenaltyLaw),
@@ -42,6 +44,7 @@ pub use pdcontact_importers as importers;
 
 pub mod body;
 pub mod case;
+pub mod cli;
 pub mod contact;
 pub mod convert;
 pub mod error;

@@ -363,10 +363,9 @@ fn bench_pipeline_times_every_stage() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Started by an MPI launcher as several processes, the one-process build refuses (exit 2)
+/// Started by an MPI launcher as several processes, `pdcontact` (built without MPI) refuses (exit 2)
 /// instead of running the job once per rank into the same folder; the first rank says why,
 /// the others stop quietly. One process under a launcher (`mpirun -n 1`) runs as usual.
-#[cfg(not(feature = "mpi"))]
 #[test]
 fn several_mpi_copies_are_refused() {
     let dir = temp_dir("mpi");

@@ -8,12 +8,12 @@
 #
 #   tools/mpi_compare.sh SCENE [OUT]      # OUT: folder for the runs (default: mpi_compare)
 #
-# PDCONTACT names the binary (default: target/release/pdcontact, built with --features mpi);
+# PDCONTACT names the binary (default: target/release/pdcontact-mpi, `cargo build --release -p pdcontact-mpi`);
 # RUNS the runs (default: "t1 t2 n2 n3 n4": tN threads, nN ranks).
 set -euo pipefail
 scene=$1
 out=${2:-mpi_compare}
-exe=${PDCONTACT:-target/release/pdcontact}
+exe=${PDCONTACT:-target/release/pdcontact-mpi}
 here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$out"
 # Open MPI refuses to start as root without these (containers).

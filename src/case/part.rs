@@ -263,7 +263,7 @@ pub fn check_memory(
         .find(|&k| need(1.08 / k as f64) < limit_mb)
         .map_or_else(
             || "on a machine with more memory".to_string(),
-            |k| format!("over {k} or more processes (`mpirun -n {k} pdcontact run`, built with `--features mpi`; each holds its particles' bonds, docs/guide/mpi.md)"),
+            |k| format!("over {k} or more processes (`mpirun -n {k} pdcontact-mpi run`; each holds its particles' bonds, docs/guide/mpi.md)"),
         );
     Err(crate::error::Error::input(format!(
         "its {n} particles and about {:.0}M bonds would take this process to about {need_mb:.0} MB ({held:.0} MB held before them, about {BYTES_PER_BOND} bytes a bond and {BYTES_PER_PARTICLE} a particle{}), past the {limit_mb:.0} MB it may use ({what}): run it {advice}",

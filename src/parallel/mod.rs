@@ -3,15 +3,13 @@
 //!
 //! [`Comm`] is what [`crate::model::domain`] asks of a message-passing layer: the rank and
 //! size, sums in rank order, and an exchange of `f64` buffers between every pair of ranks.
-//! Built with the cargo feature `mpi`, [`mpi::MpiComm`] implements it on the system's MPI
-//! (rsmpi); without it there is one process and nothing here is used.
+//! The `pdcontact-mpi` package (`mpi/`) implements it on the system's MPI (rsmpi); in the
+//! `pdcontact` binary there is one process and nothing here is used.
 //!
 //! Indices travel as `f64`: a particle index is below 2⁵³, so it is exact, and one buffer
 //! type keeps the trait small.
 
 pub mod memory;
-#[cfg(feature = "mpi")]
-pub mod mpi;
 
 use std::ops::Range;
 

@@ -37,7 +37,7 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Raised by Ctrl-C / SIGTERM: finish the current frame and stop.
     pub stop: Option<Arc<AtomicBool>>,
-    /// The processes of an MPI run (`mpirun -n N`, a build with the `mpi` feature): the
+    /// The processes of an MPI run (`mpirun -n N pdcontact-mpi`): the
     /// model is decomposed over them ([`crate::model::domain`]); rank 0 prints and writes.
     pub comm: Option<Arc<dyn Comm>>,
 }

@@ -1,13 +1,13 @@
-//! The command line's arguments: what each command takes, parsed by clap, before `main.rs`
+//! The command line's arguments: what each command takes, parsed by clap, before `mod.rs`
 //! checks and runs them.
 
 use std::path::PathBuf;
 
+use crate::case::{SecondOrder, DEFAULT_HORIZON_FACTOR};
+use crate::importers::Format;
+use crate::studies::scenarios::{Problem, Set};
+use crate::studies::validate::Study;
 use clap::{Parser, Subcommand, ValueEnum};
-use pdcontact::case::{SecondOrder, DEFAULT_HORIZON_FACTOR};
-use pdcontact::importers::Format;
-use pdcontact::studies::scenarios::{Problem, Set};
-use pdcontact::studies::validate::Study;
 
 /// Peridynamic point-to-surface contact from finite-element meshes.
 #[derive(Parser, Debug)]
@@ -96,7 +96,7 @@ pub(crate) enum Command {
         /// With --mesh: load so that Hertz's contact radius (or half-width) is this fraction of
         /// the body's radius (at most 0.5; Hertz theory holds best at 0.15 or less, where the
         /// mesh needs a/Δ >= 5 across the contact).
-        #[arg(long, value_name = "A_OVER_R", default_value_t = pdcontact::studies::user_mesh::CONTACT_RATIO, requires = "mesh")]
+        #[arg(long, value_name = "A_OVER_R", default_value_t = crate::studies::user_mesh::CONTACT_RATIO, requires = "mesh")]
         contact_ratio: f64,
         /// With --mesh: the horizon δ = MΔ in particle spacings (default 3); see
         /// docs/VALIDATION.md, "Few spacings across the contact".

@@ -1,15 +1,18 @@
-//! [`Comm`] on the system's MPI through rsmpi (cargo feature `mpi`).
+//! [`Comm`] on the system's MPI through rsmpi.
 
 use mpi::datatype::{Partition, PartitionMut};
+use mpi::environment::Universe;
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 use mpi::Count;
 
-use super::Comm;
+use pdcontact::parallel::Comm;
 
-/// The world communicator of an initialised MPI environment.
+/// The world communicator of an initialised MPI environment, which it owns: MPI is finalised
+/// when the last reference to it is dropped.
 pub struct MpiComm {
     world: SimpleCommunicator,
+    _universe: Universe,
 }
 
 // SAFETY: MPI is initialised with the default threading level and every call is made from the
@@ -20,9 +23,14 @@ unsafe impl Send for MpiComm {}
 unsafe impl Sync for MpiComm {}
 
 impl MpiComm {
-    /// The world communicator.
-    pub fn world(world: SimpleCommunicator) -> MpiComm {
-        MpiComm { world }
+    /// MPI initialised, and its world communicator; `None` where MPI was initialised
+    /// before (once a process).
+    pub fn initialize() -> Option<MpiComm> {
+        let universe = mpi::initialize()?;
+        Some(MpiComm {
+            world: universe.world(),
+            _universe: universe,
+        })
     }
 }
 

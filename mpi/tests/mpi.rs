@@ -1,18 +1,22 @@
-//! A run decomposed over MPI ranks gives the one-process run's figures bit for bit (built
-//! with `--features mpi`; needs `mpirun`, which `.ci/run` installs): the bond forces, ADR's
+//! A run decomposed over MPI ranks gives the one-process run's figures bit for bit
+//! (`pdcontact-mpi`; needs `mpirun`, which `.ci/run` installs): the bond forces, ADR's
 //! sums and the contact forces are added in the same order on any number of threads and ranks.
 //! Its frames (one piece of particles per rank) hold every particle once, with the values of
 //! the one-process frames, read by VTK's own readers when Python's vtk is present.
 
-#![cfg(feature = "mpi")]
-
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+#[path = "../../tests/common/tools.rs"]
 mod common;
 
 fn exe() -> &'static str {
-    env!("CARGO_BIN_EXE_pdcontact")
+    env!("CARGO_BIN_EXE_pdcontact-mpi")
+}
+
+/// A path in the repository (this package is its folder `mpi/`).
+fn repo(p: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(p)
 }
 
 fn temp_dir(name: &str) -> PathBuf {
@@ -306,7 +310,7 @@ fn one_pass_between_deformable_bodies_on_three_ranks() {
 fn explicit_drop_on_two_ranks() {
     let dir = temp_dir("drop");
     let scene = dir.join("scene.toml");
-    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/sphere_r1_d012.msh");
+    let mesh = repo("meshes/sphere_r1_d012.msh");
     std::fs::write(
         &scene,
         format!(
@@ -444,7 +448,7 @@ fn static_solver_refuses_to_run_on_ranks() {
 /// converged state and the frames (the recovered `stress` among them) have the same bits.
 #[test]
 fn lps_on_three_ranks() {
-    let tet4 = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/sphere_cap_quarter_tet4.msh");
+    let tet4 = repo("meshes/sphere_cap_quarter_tet4.msh");
     let demo_mesh = format!("mesh = \"{}\"", pdcontact::studies::demo::DEMO_MESH_NAME);
     for influence in ["constant", "position-aware"] {
         let dir = temp_dir(&format!("lps-{influence}"));
