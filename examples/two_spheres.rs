@@ -33,6 +33,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             quiet: true,
             stop: None,
             comm: None,
+            study: false,
         },
     )?;
     println!(

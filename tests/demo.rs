@@ -30,6 +30,7 @@ fn demo_converges_balances_and_loads_in_vtk() {
             quiet: true,
             stop: None,
             comm: None,
+            study: false,
         },
     )
     .expect("demo runs");

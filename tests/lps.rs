@@ -44,6 +44,7 @@ fn run_with_summary(text: &str) -> (Model, pdcontact::run::RunSummary) {
         quiet: true,
         stop: None,
         comm: None,
+        study: false,
     };
     let (model, summary) = run_scene(&scene, &options).expect("the scene runs");
     let _ = std::fs::remove_dir_all(&dir);

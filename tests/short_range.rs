@@ -70,6 +70,7 @@ fn short_range_punch_balances_and_carries_its_load() {
             quiet: true,
             stop: None,
             comm: None,
+            study: false,
         },
     )
     .expect("runs");

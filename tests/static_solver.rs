@@ -22,6 +22,7 @@ fn quiet(dir: &Path) -> RunOptions {
         quiet: true,
         stop: None,
         comm: None,
+        study: false,
     }
 }
 

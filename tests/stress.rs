@@ -156,6 +156,7 @@ fn a_bar_in_tension_carries_the_applied_stress() {
         quiet: true,
         stop: None,
         comm: None,
+        study: false,
     };
     let (model, summary) = run_scene(&scene, &options).expect("the bar runs");
     assert!(summary.converged);

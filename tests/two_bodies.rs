@@ -139,6 +139,7 @@ fn run_in(name: &str, text: &str, e_star: f64, r_star: f64, look: impl FnOnce(&P
             quiet: true,
             stop: None,
             comm: None,
+            study: false,
         },
     )
     .unwrap_or_else(|e| panic!("{name}: {e}"));

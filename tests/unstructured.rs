@@ -50,6 +50,7 @@ fn run_text(scene: &str, tag: &str) -> Model {
         quiet: true,
         stop: None,
         comm: None,
+        study: false,
     };
     let (model, summary) = run_scene(&scene, &options).expect("runs");
     assert!(summary.converged);

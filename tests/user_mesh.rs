@@ -166,6 +166,52 @@ fn without_the_skin_correction_on_the_stored_tet_meshes() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `validate` chooses the load (a = 0.3 R), the penalty and the solver of the scenes it runs:
+/// the run's warnings on those values ("was the load written in kN?", "set radius = ... in
+/// this [[contact]]", "raise the load") would send a user to values they never wrote, and
+/// its own warning says what the spacing does in its own terms. On meshes/sphere_tet4.msh
+/// (a/Δ = 1.9) the run finds the first and the last (the penalty is stiff enough there);
+/// they stay in the run's `summary.json`, and neither is printed.
+#[test]
+fn validate_prints_no_warning_on_values_it_chose() {
+    let dir = temp_dir("own-values");
+    let mesh = repo("meshes/sphere_tet4.msh");
+    let out = validate(&[
+        "--mesh",
+        mesh.to_str().expect("utf-8 path"),
+        "--refine",
+        "0",
+        "-o",
+        dir.to_str().expect("utf-8 path"),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("sphere-mesh/summary.json")).expect("summary"),
+    )
+    .expect("JSON");
+    let recorded: Vec<&str> = summary["warnings"]
+        .as_array()
+        .expect("warnings")
+        .iter()
+        .filter_map(|w| w.as_str())
+        .collect();
+    for (said, what) in [
+        ("kN or MN", "the load's units"),
+        ("or raise the load", "the contact's spacings"),
+    ] {
+        assert!(
+            recorded.iter().any(|w| w.contains(said)),
+            "the run no longer finds {what}: {recorded:?}"
+        );
+        assert!(!stderr.contains(said), "{what} printed: {stderr}");
+    }
+    // Its own warning on the spacings is printed, with its table.
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("the contact spans only"), "{stdout}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The second row is the command's own choice, on meshes/sphere_tet4.msh (h = 0.15 m, a/Δ =
 /// 1.9; measured: 9.88 % on its 1,308 nodes, 3.21 % on the 8,872 particles of `refine = 1`):
 /// `--refine 0`, like any of the body's settings, keeps the mesh's nodes alone, with the hint

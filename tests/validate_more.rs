@@ -219,6 +219,7 @@ fn surface_stress_is_hertzs(scene: &Path) {
         quiet: true,
         stop: None,
         comm: None,
+        study: false,
     };
     let (model, summary) = pdcontact::run::run_scene(&scene, &options).expect("runs");
     let pd = model.bodies[0].as_pd().expect("deformable");

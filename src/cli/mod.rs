@@ -119,6 +119,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 quiet,
                 stop: Some(stop_flag()),
                 comm: None,
+                study: false,
             };
             let report = crate::studies::demo::run_demo(&output, &options)?;
             print_report(json, &report, || report.to_text());
@@ -491,6 +492,7 @@ fn run(cli: Cli, comm: Option<Arc<dyn Comm>>) -> Result<Outcome, Error> {
                 quiet,
                 stop: Some(stop_flag()),
                 comm,
+                study: false,
             };
             let (model, summary) = run_scene(&scene, &options)?;
             if model.rank() != 0 {

@@ -40,6 +40,12 @@ pub struct RunOptions {
     /// The processes of an MPI run (`mpirun -n N pdcontact-mpi`): the
     /// model is decomposed over them ([`crate::model::domain`]); rank 0 prints and writes.
     pub comm: Option<Arc<dyn Comm>>,
+    /// The scene was written by a study (`validate`), with a load, a penalty and a solver of
+    /// its own choosing: the warnings on those values (the contact's spacings, strain and
+    /// penalty, the solver's options) are the study's to give, in its own terms, and would
+    /// send the user to change values they never wrote. The run then prints only what it
+    /// found in the meshes ([`mesh_warnings`]); `summary.json` keeps every warning.
+    pub study: bool,
 }
 
 /// Output paths of a run.
@@ -352,22 +358,7 @@ pub fn check_scene_on(
 ) -> Result<(Model, Vec<String>, Vec<ContactResolution>)> {
     let model = Model::from_scene_on(scene, comm)?;
     checks::check_model(scene, &model)?;
-    // What the importers and the quality checks found in the meshes, body by body; a body's
-    // pieces as `piece_warnings` below sees them, with its bonds and its contacts (the mesh's
-    // own warning said a contact was missing where the scene has one).
-    let mut warnings: Vec<String> = model
-        .bodies
-        .iter()
-        .filter_map(Body::as_pd)
-        .flat_map(|pd| {
-            pd.case
-                .mesh
-                .warnings
-                .iter()
-                .filter(|w| !crate::importers::is_pieces_warning(w))
-                .map(move |w| format!("body \"{}\": {w}", pd.name))
-        })
-        .collect();
+    let mut warnings = importer_warnings(&model);
     // Solver options that the chosen solver ignores.
     warnings.extend(scene.warnings());
     warnings.extend(checks::one_pass_warnings(scene, &model));
@@ -382,6 +373,43 @@ pub fn check_scene_on(
     warnings.extend(units::scale_warnings(scene, &model, &contact_estimates));
     warnings.extend(damping::damping_warnings(scene, &model, &contact_estimates));
     Ok((model, warnings, contact_estimates))
+}
+
+/// What the importers and the quality checks found in the meshes, body by body; a body's
+/// pieces as `checks::piece_warnings` sees them, with its bonds and its contacts (the mesh's
+/// own warning said a contact was missing where the scene has one).
+fn importer_warnings(model: &Model) -> Vec<String> {
+    model
+        .bodies
+        .iter()
+        .filter_map(Body::as_pd)
+        .flat_map(|pd| {
+            pd.case
+                .mesh
+                .warnings
+                .iter()
+                .filter(|w| !crate::importers::is_pieces_warning(w))
+                .map(move |w| format!("body \"{}\": {w}", pd.name))
+        })
+        .collect()
+}
+
+/// The warnings of [`check_scene`] on the meshes alone, whatever the scene's values: what
+/// the importers found, a body's unconnected pieces, and the surface where a contact will be
+/// (tributary areas that vary, a mesh graded toward the contact). What a run of a study's
+/// own scene prints ([`RunOptions::study`]).
+pub fn mesh_warnings(
+    scene: &Scene,
+    model: &Model,
+    contact_estimates: &[ContactResolution],
+) -> Vec<String> {
+    let mut warnings = importer_warnings(model);
+    warnings.extend(checks::piece_warnings(scene, model));
+    for e in contact_estimates {
+        warnings.extend(e.area_warning());
+        warnings.extend(e.graded_warning());
+    }
+    warnings
 }
 
 /// Runs a scene; writes frames and `summary.json` into the output folder.
@@ -464,7 +492,12 @@ pub fn run_scene_with(
     // In a decomposed run the first rank speaks and writes; the others only compute.
     let root = model.rank() == 0;
     if !options.quiet && root {
-        for w in &warnings {
+        let printed = if options.study {
+            mesh_warnings(scene, &model, &contact_estimates)
+        } else {
+            warnings.clone()
+        };
+        for w in &printed {
             eprintln!("warning: {w}");
         }
     }

@@ -69,6 +69,7 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
             quiet,
             stop: None,
             comm: None,
+            study: true,
         },
     )?;
     let wall = start.elapsed().as_secs_f64();

@@ -55,6 +55,7 @@ fn run_in(
             quiet,
             stop: None,
             comm: None,
+            study: false,
         },
         observer,
     )?;

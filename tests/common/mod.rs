@@ -108,6 +108,7 @@ pub fn run_text_in(
             quiet: true,
             stop: None,
             comm: None,
+            study: false,
         },
     )
 }
