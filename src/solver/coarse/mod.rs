@@ -9,13 +9,16 @@
 //! only) and from each Newton iteration's contact springs ([`super::tangent::Tangent`]);
 //! its inverse from the bonds' part factorised once and the springs' added on the boxes
 //! they touch ([`factor`]).
-//! Bodies of the LPS model (whose dilatation couples a particle to its neighbours'
-//! neighbours) have no coarse space: block Jacobi alone, as before.
+//! An LPS body's part is its energy's (METHOD.md §8) linearised: the deviatoric term pair by
+//! pair, as a bond-based body's, and the dilatation's `Σ_p V_p k' g_p θ_p²/2`
+//! (`k' = k − 5μ/3`) as one rank-one term per particle ([`CoarseSpace::assemble_dilatation`]);
+//! the position-aware and skin weights are left out of it (1), which the preconditioner
+//! tolerates: it is exact for the constant influence function without the skin correction.
 
 use std::collections::HashMap;
 use std::ops::AddAssign;
 
-use nalgebra::{DMatrix, DVector, Matrix3, SMatrix};
+use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, SVector};
 use rayon::prelude::*;
 
 mod factor;
@@ -59,14 +62,11 @@ pub(super) struct CoarseSpace {
 
 impl CoarseSpace {
     /// Boxes over each deformable body's reference box, about [`PARTICLES_PER_BOX`]
-    /// particles each; `None` where a body is LPS or the model has no deformable body.
+    /// particles each; `None` where the model has no deformable body.
     pub fn new(model: &Model) -> Option<CoarseSpace> {
         let mut sizes = Vec::new();
         for b in &model.bodies {
             if let Body::Deformable(pd) = b {
-                if pd.lps.is_some() {
-                    return None;
-                }
                 sizes.push(pd.len());
             }
         }
@@ -335,6 +335,8 @@ impl CoarseSpace {
             let n = pd.len();
             let bonds = &pd.case.bonds;
             let ghosts = &pd.case.ghosts;
+            let vol = &pd.case.particles.volume;
+            let lps = pd.lps.as_ref().map(|l| (l, l.shear));
             let reflect = |g: usize| {
                 let mut m = Vec3::repeat(1.0);
                 for (q, plane) in ghosts.planes.iter().enumerate() {
@@ -361,11 +363,37 @@ impl CoarseSpace {
                     across.clear();
                     let mut last = 0;
                     for bd in bonds.range(i) {
-                        let w = f64::from(pd.bond_weight[bd]);
+                        let j = bonds.partner[bd] as usize;
+                        let w = match lps {
+                            // The deviatoric pair stiffness `15μ (g_i v_i/m_i + g_j v_j/m_j)
+                            // v_c V_j V_i` (the dilatation apart); 0 for a broken bond.
+                            Some((l, mu)) if pd.bond_weight[bd] != 0.0 => {
+                                let s = if j < n {
+                                    j
+                                } else {
+                                    ghosts.source[j - n] as usize
+                                };
+                                let (vi, vj) = l.deviatoric_factors(bd);
+                                let (mi, ms) = (l.weighted_volume[i], l.weighted_volume[s]);
+                                let share = |g: f64, v: f64, m: f64| {
+                                    if m > 0.0 {
+                                        g * v / m
+                                    } else {
+                                        0.0
+                                    }
+                                };
+                                15.0 * mu
+                                    * (share(l.correction[i], vi, mi)
+                                        + share(l.correction[s], vj, ms))
+                                    * l.bond_volume[bd]
+                                    * vol[i]
+                            }
+                            Some(_) => 0.0,
+                            None => f64::from(pd.bond_weight[bd]),
+                        };
                         if w == 0.0 {
                             continue;
                         }
-                        let j = bonds.partner[bd] as usize;
                         let xi = pd.reference[j] - pd.reference[i];
                         let q = xi * (w / xi.norm_squared());
                         let wee = [
@@ -440,8 +468,104 @@ impl CoarseSpace {
                 }
             }
         }
+        self.assemble_dilatation(model, &mut ac);
         // K is symmetric; the sum over directed bonds is so up to rounding.
         (&ac + ac.transpose()) * 0.5
+    }
+
+    /// An LPS body's dilatation term added to `ac`: `Σ_p V_p k' g_p c_p c_pᵀ` with
+    /// `c_p = Pᵀ ∂θ_p/∂u = (3/m_p) Σ_q ω_d v_c V_q |ξ| (P_qᵀ n − P_pᵀ n)` and
+    /// `k' = k − 5μ/3` (the LPS energy written as its dilatation's square and the deviatoric
+    /// pairs': [`Self::assemble_bonds`]). Partners in the particle's own box, free in every
+    /// direction, add nothing (a rigid mode does not dilate it). Summed per block of particles
+    /// in a fixed order, as the bonds are.
+    fn assemble_dilatation(&self, model: &Model, ac: &mut DMatrix<f64>) {
+        for (k, b) in model.bodies.iter().enumerate() {
+            let Body::Deformable(pd) = b else { continue };
+            let Some(lps) = pd.lps.as_ref() else { continue };
+            let k_prime = lps.bulk - 5.0 * lps.shear / 3.0;
+            if k_prime == 0.0 {
+                continue;
+            }
+            let n = pd.len();
+            let bonds = &pd.case.bonds;
+            let ghosts = &pd.case.ghosts;
+            let vol = &pd.case.particles.volume;
+            let reflect = |g: usize| {
+                let mut m = Vec3::repeat(1.0);
+                for (q, plane) in ghosts.planes.iter().enumerate() {
+                    if ghosts.mask[g] & (1 << q) != 0 {
+                        m[plane.axis] = -1.0;
+                    }
+                }
+                m
+            };
+            // `P_qᵀ e` on q's box: `(e ∘ f, r × (e ∘ f))`, `r` from the box's centre.
+            let mode = |r: Vec3, f: Vec3, e: Vec3| {
+                let t = e.component_mul(&f);
+                let rot = r.cross(&t);
+                SVector::<f64, 6>::from_column_slice(&[t.x, t.y, t.z, rot.x, rot.y, rot.z])
+            };
+            let part = |range: std::ops::Range<usize>| {
+                let mut m = Blocks::default();
+                let mut c: Vec<(usize, SVector<f64, 6>)> = Vec::new();
+                for p in range {
+                    let mp = lps.weighted_volume[p];
+                    if !(mp > 0.0) {
+                        continue;
+                    }
+                    c.clear();
+                    let (ap, cp, fp) = self.at(model, k, p);
+                    let mut own = SVector::<f64, 6>::zeros();
+                    for bd in bonds.range(p) {
+                        let bv = lps.bond_volume[bd];
+                        if bv == 0.0 || pd.bond_weight[bd] == 0.0 {
+                            continue;
+                        }
+                        let q = bonds.partner[bd] as usize;
+                        let xi = pd.reference[q] - pd.reference[p];
+                        let len = xi.norm();
+                        let e = xi / len;
+                        let coef = 3.0 / mp * bv * len * lps.dilatation_factors(bd).0;
+                        let (aq, cq, fq, eq) = if q < n {
+                            let (a, c, f) = self.at(model, k, q);
+                            (a, c, f, e)
+                        } else {
+                            let (a, c, f) = self.at(model, k, ghosts.source[q - n] as usize);
+                            (a, c, f, e.component_mul(&reflect(q - n)))
+                        };
+                        own -= mode(cp, fp, e) * coef;
+                        let g = mode(cq, fq, eq) * coef;
+                        match c.iter_mut().find(|(a, _)| *a == aq) {
+                            Some((_, v)) => *v += g,
+                            None => c.push((aq, g)),
+                        }
+                    }
+                    match c.iter_mut().find(|(a, _)| *a == ap) {
+                        Some((_, v)) => *v += own,
+                        None => c.push((ap, own)),
+                    }
+                    let weight = vol[p] * k_prime * lps.correction[p];
+                    for (a, ca) in &c {
+                        for (b, cb) in &c {
+                            *m.at(*a, *b) += (ca * cb.transpose()) * weight;
+                        }
+                    }
+                }
+                m
+            };
+            let block = n.div_ceil(16).max(1024);
+            let parts: Vec<Blocks> = (0..n.div_ceil(block))
+                .into_par_iter()
+                .map(|c| part(c * block..((c + 1) * block).min(n)))
+                .collect();
+            for p in parts {
+                for (&(a, b), &kk) in &p.index {
+                    let mut blk = ac.fixed_view_mut::<6, 6>(6 * a, 6 * b);
+                    blk += p.values[kk];
+                }
+            }
+        }
     }
 }
 
@@ -510,6 +634,12 @@ pub(super) mod tests {
     /// the origin, two passes: springs to master nodes and, by the stabilisation, to the
     /// ground.
     pub(in crate::solver) fn stacked() -> Model {
+        stacked_of("poisson_ratio = 0.25", "")
+    }
+
+    /// [`stacked`] with `material` in each body's `[body.material]` and `body` in its
+    /// `[[body]]`.
+    pub(in crate::solver) fn stacked_of(material: &str, extra: &str) -> Model {
         let mesh = |name: &str| {
             format!(
                 "{:?}",
@@ -526,9 +656,10 @@ pub(super) mod tests {
 name = "{name}"
 mesh = {}
 kinematics = "small"
+{extra}
 [body.material]
 youngs_modulus = 1e9
-poisson_ratio = 0.25
+{material}
 density = 1000.0
 [[symmetry]]
 body = "{name}"
@@ -642,32 +773,9 @@ two_pass = true
         assert!(plain.abs() > 1e-6 * scale, "{plain} against {scale}");
 
         let space = CoarseSpace::new(&model).expect("a coarse space");
-        let assembled = space.matrix(&model, tangent.springs());
-        let nc = space.len();
-        let mut probed = nalgebra::DMatrix::<f64>::zeros(nc, nc);
-        let (mut v, mut out) = (Dofs::zeros(&model), Dofs::zeros(&model));
-        for c in 0..nc {
-            v.fill_zero();
-            for k in 0..v.pd.len() {
-                for i in 0..v.pd[k].len() {
-                    let (box_, m) = space.rows(&model, k, i);
-                    if box_ == c / 6 {
-                        v.pd[k][i] = m.column(c % 6).into_owned();
-                    }
-                }
-            }
-            tangent.apply(&mut model, &v, &mut out);
-            for (k, body) in model.bodies.iter().enumerate() {
-                let Some(pd) = body.as_pd() else { continue };
-                for i in 0..out.pd[k].len() {
-                    let (box_, m) = space.rows(&model, k, i);
-                    let mut col = probed.fixed_view_mut::<6, 1>(6 * box_, c);
-                    col += m.transpose() * out.pd[k][i] * pd.case.ghosts.share(i);
-                }
-            }
-        }
-        let gap = (&assembled - &probed).norm() / probed.norm();
+        let gap = projection_gap(&mut model, &mut tangent, &space);
         assert!(gap < 1e-8, "assembled against probed: {gap:e}");
+        let nc = space.len();
 
         // The correction applies `P` and `Pᵀ` without building them: with `(Pᵀ K P)⁻¹`
         // replaced by the identity it gives `P Pᵀ S r`, as the rows built give it.
@@ -697,5 +805,54 @@ two_pass = true
             largest > 0.0 && worst < 1e-12 * largest,
             "{worst:e} against {largest:e}"
         );
+    }
+
+    /// `|A − Pᵀ K P| / |Pᵀ K P|`: the coarse matrix assembled from the bonds and the springs
+    /// against `Pᵀ K P` as the tangent's product gives it, column by column.
+    fn projection_gap(model: &mut Model, tangent: &mut Tangent, space: &CoarseSpace) -> f64 {
+        let model = &mut *model;
+        let assembled = space.matrix(model, tangent.springs());
+        let nc = space.len();
+        let mut probed = nalgebra::DMatrix::<f64>::zeros(nc, nc);
+        let (mut v, mut out) = (Dofs::zeros(model), Dofs::zeros(model));
+        for c in 0..nc {
+            v.fill_zero();
+            for k in 0..v.pd.len() {
+                for i in 0..v.pd[k].len() {
+                    let (box_, m) = space.rows(model, k, i);
+                    if box_ == c / 6 {
+                        v.pd[k][i] = m.column(c % 6).into_owned();
+                    }
+                }
+            }
+            tangent.apply(model, &v, &mut out);
+            for (k, body) in model.bodies.iter().enumerate() {
+                let Some(pd) = body.as_pd() else { continue };
+                for i in 0..out.pd[k].len() {
+                    let (box_, m) = space.rows(model, k, i);
+                    let mut col = probed.fixed_view_mut::<6, 1>(6 * box_, c);
+                    col += m.transpose() * out.pd[k][i] * pd.case.ghosts.share(i);
+                }
+            }
+        }
+        (&assembled - &probed).norm() / probed.norm()
+    }
+
+    /// An LPS body's coarse matrix is `Pᵀ K P` too: its deviatoric pairs and its
+    /// dilatation's rank-one terms, at ν = 0.3 and at ν = 0.2 (where `k − 5μ/3 < 0`), with
+    /// the constant influence function and no skin correction (where the assembly is exact).
+    #[test]
+    fn an_lps_bodys_coarse_matrix_is_its_projection() {
+        for nu in [0.3, 0.2] {
+            let mut model = stacked_of(
+                &format!("model = \"lps\"\npoisson_ratio = {nu}"),
+                "skin_correction = false",
+            );
+            let mut blocks = vec![None; model.bodies.len()];
+            let mut tangent = Tangent::new(&model, 1.0, None, &mut blocks, false);
+            let space = CoarseSpace::new(&model).expect("a coarse space");
+            let gap = projection_gap(&mut model, &mut tangent, &space);
+            assert!(gap < 1e-8, "ν = {nu}: assembled against probed: {gap:e}");
+        }
     }
 }
