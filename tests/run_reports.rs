@@ -213,11 +213,11 @@ fn the_accuracy_line_compares_the_run_with_the_estimate() {
     let e = estimates[0].estimate.clone().expect("a Hertz estimate");
     assert!((e.radius - 0.15).abs() < 2e-3, "a {}", e.radius);
     let p0 = 3.0 * e.load / (2.0 * std::f64::consts::PI * e.radius * e.radius);
-    let close = AccuracyCheck::of(&estimates, 1.01 * e.radius, 0.99 * p0).expect("applies");
+    let close = AccuracyCheck::of(&model, &estimates, 1.01 * e.radius, 0.99 * p0).expect("applies");
     assert!((close.radius_error - 0.01).abs() < 1e-12 && (close.peak_error + 0.01).abs() < 1e-12);
     assert!(!close.differs());
     assert!(close.line().ends_with("(-1.0 %)"), "{}", close.line());
-    let far = AccuracyCheck::of(&estimates, 1.1 * e.radius, p0).expect("applies");
+    let far = AccuracyCheck::of(&model, &estimates, 1.1 * e.radius, p0).expect("applies");
     assert!(far.differs());
     assert!(
         far.line().contains("(+10.0 %)")
@@ -228,7 +228,31 @@ fn the_accuracy_line_compares_the_run_with_the_estimate() {
         far.line()
     );
     // No contact found: nothing to compare.
-    assert!(AccuracyCheck::of(&estimates, 0.0, 0.0).is_none());
+    assert!(AccuracyCheck::of(&model, &estimates, 0.0, 0.0).is_none());
+    // A linear peridynamic solid: the command runs Hertz's test with its ν.
+    let lps = Scene::parse(
+        &sphere_scene(1.0, 1e9, 1000.0, "kind = \"adr\"").replace(
+            "poisson_ratio = 0.25",
+            "model = \"lps\"\npoisson_ratio = 0.3",
+        ),
+        "a.toml",
+        Path::new("."),
+    )
+    .expect("parses");
+    let model = Model::from_scene(&lps).expect("builds");
+    let estimates = model.contact_resolution();
+    let e = estimates[0].estimate.clone().expect("a Hertz estimate");
+    let far =
+        AccuracyCheck::of(&model, &estimates, 1.1 * e.radius, e.peak_pressure()).expect("applies");
+    assert_eq!(far.poisson, Some(0.3));
+    assert!(
+        far.line().contains(&format!(
+            "--contact-ratio {:.2} --poisson 0.3`",
+            far.contact_ratio
+        )),
+        "{}",
+        far.line()
+    );
 }
 
 /// `convert`'s case: small kinematics, the pins that hold a body on a frictionless plane; run

@@ -537,7 +537,8 @@ kinematics = "small"      # small strain, as Hertz's theory and the estimate abo
 # scale = 1.0
 [body.material]
 youngs_modulus = {youngs:e}   # E, Pa
-poisson_ratio = {nu}          # bond-based PD requires 1/4
+poisson_ratio = {nu}          # bond-based PD fixes 1/4; another ν (steel 0.3, aluminium 0.33) needs the line below
+# model = "lps"               # the linear peridynamic solid: any ν up to 0.49 (docs/guide/scene.md, "Bodies")
 density = 1000.0              # kg/m3
 "#,
             m = case.horizon_factor,

@@ -604,7 +604,7 @@ pub fn run_scene_with(
     let decomposition = model.domain.as_ref().map(|d| d.layout(&model.bodies));
     let (contact, applied, balance) = force_balance(&model);
     let (radius, peak) = patch_figures(&model);
-    let accuracy = report::AccuracyCheck::of(&contact_estimates, radius, peak);
+    let accuracy = report::AccuracyCheck::of(&model, &contact_estimates, radius, peak);
     let after = report::drift_warnings(&model);
     if !options.quiet && root {
         for w in &after {

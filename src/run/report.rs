@@ -41,15 +41,31 @@ pub struct AccuracyCheck {
     /// The estimate's `a/R`, `R` the slave's own radius of curvature: `validate --mesh
     /// --contact-ratio` at this value runs Hertz's test at the same contact size.
     pub contact_ratio: f64,
+    /// The slave's Poisson's ratio where it is a linear peridynamic solid (`validate
+    /// --poisson` runs the same material); none for the bond-based model.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub poisson: Option<f64>,
 }
 
 impl AccuracyCheck {
     /// The check, where one pair has a circular point-contact estimate and the run found a
     /// contact.
-    pub fn of(estimates: &[ContactResolution], fitted_radius: f64, peak: f64) -> Option<Self> {
+    pub fn of(
+        model: &Model,
+        estimates: &[ContactResolution],
+        fitted_radius: f64,
+        peak: f64,
+    ) -> Option<Self> {
         let [only] = estimates else {
             return None;
         };
+        let poisson = model
+            .bodies
+            .iter()
+            .find(|b| b.name() == only.slave)
+            .and_then(Body::as_pd)
+            .filter(|pd| pd.lps.is_some())
+            .map(|pd| pd.material.poisson);
         let e = only.estimate.as_ref()?;
         let [k1, k2] = e.curvatures;
         if e.shape != ContactShape::Point
@@ -68,6 +84,7 @@ impl AccuracyCheck {
             peak,
             peak_error: peak / estimated_peak - 1.0,
             contact_ratio: e.radius * e.slave_curvature,
+            poisson,
         })
     }
 
@@ -91,8 +108,11 @@ impl AccuracyCheck {
             100.0 * self.peak_error
         );
         if self.differs() {
+            let poisson = self
+                .poisson
+                .map_or(String::new(), |nu| format!(" --poisson {nu}"));
             line.push_str(&format!(
-                "; more than {:.0} % apart: `pdcontact validate --mesh MESH --contact-ratio {:.2}` runs Hertz's test on the mesh (a sphere or a cylinder) at this contact size and says what the mesh gives, or the scene is not Hertz's (a load not through the contact, a large strain, a second contact)",
+                "; more than {:.0} % apart: `pdcontact validate --mesh MESH --contact-ratio {:.2}{poisson}` runs Hertz's test on the mesh (a sphere or a cylinder) at this contact size and says what the mesh gives, or the scene is not Hertz's (a load not through the contact, a large strain, a second contact)",
                 100.0 * ACCURACY_POINTER,
                 self.contact_ratio
             ));
