@@ -14,7 +14,7 @@ use crate::studies::bench::LATTICE_HORIZON_FACTOR;
 use crate::studies::scenarios::Problem;
 use crate::studies::validate;
 use crate::Error;
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
@@ -570,7 +570,16 @@ pub type StartMpi = fn() -> Result<Arc<dyn Comm>, String>;
 /// code returned. `start_mpi` is `None` in a binary built without MPI: started by `mpirun`
 /// as several processes, it then refuses rather than run the whole job in each.
 pub fn main(start_mpi: Option<StartMpi>) -> ExitCode {
-    let cli = Cli::parse();
+    // Help and usage name the binary that runs: `pdcontact-mpi` is the MPI build's.
+    let name = if start_mpi.is_some() {
+        "pdcontact-mpi"
+    } else {
+        "pdcontact"
+    };
+    let cli = match Cli::from_arg_matches(&Cli::command().name(name).bin_name(name).get_matches()) {
+        Ok(cli) => cli,
+        Err(e) => e.exit(),
+    };
     // The main thread one of the pool's threads: a parallel loop it starts is then a job
     // of its own worker, not one sent to another thread while it sleeps on a lock (on a
     // 2-core VM that handover cost ~0.1 ms a loop: the static solver's linear iterations
