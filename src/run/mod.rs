@@ -44,7 +44,7 @@ pub struct RunOptions {
     /// its own choosing: the warnings on those values (the contact's spacings, strain and
     /// penalty, the solver's options) are the study's to give, in its own terms, and would
     /// send the user to change values they never wrote. The run then prints only what it
-    /// found in the meshes ([`mesh_warnings`]); `summary.json` keeps every warning.
+    /// found in the meshes; `summary.json` keeps every warning.
     pub study: bool,
 }
 
@@ -356,22 +356,52 @@ pub fn check_scene_on(
     scene: &Scene,
     comm: Option<&Arc<dyn Comm>>,
 ) -> Result<(Model, Vec<String>, Vec<ContactResolution>)> {
+    let (model, warnings, contact_estimates) = checked(scene, comm)?;
+    let warnings = warnings.into_iter().map(|w| w.text).collect();
+    Ok((model, warnings, contact_estimates))
+}
+
+/// A warning of [`check_scene`], and whether it is about the meshes alone, whatever the
+/// scene's values: what the importers found, a body's unconnected pieces, the surface where
+/// a contact will be (tributary areas that vary, a mesh graded toward the contact). Those
+/// are what a run of a study's own scene prints ([`RunOptions::study`]).
+struct Warning {
+    text: String,
+    on_mesh: bool,
+}
+
+/// [`check_scene_on`] with each warning tagged.
+fn checked(
+    scene: &Scene,
+    comm: Option<&Arc<dyn Comm>>,
+) -> Result<(Model, Vec<Warning>, Vec<ContactResolution>)> {
     let model = Model::from_scene_on(scene, comm)?;
     checks::check_model(scene, &model)?;
-    let mut warnings = importer_warnings(&model);
+    let tag = |on_mesh: bool, texts: Vec<String>| {
+        texts.into_iter().map(move |text| Warning { text, on_mesh })
+    };
+    let mut warnings: Vec<Warning> = tag(true, importer_warnings(&model)).collect();
     // Solver options that the chosen solver ignores.
-    warnings.extend(scene.warnings());
-    warnings.extend(checks::one_pass_warnings(scene, &model));
-    warnings.extend(checks::piece_warnings(scene, &model));
-    warnings.extend(checks::lps_contact_warnings(scene, &model));
+    warnings.extend(tag(false, scene.warnings()));
+    warnings.extend(tag(false, checks::one_pass_warnings(scene, &model)));
+    warnings.extend(tag(true, checks::piece_warnings(scene, &model)));
+    warnings.extend(tag(false, checks::lps_contact_warnings(scene, &model)));
     let contact_estimates = model.contact_resolution();
-    warnings.extend(
-        contact_estimates
-            .iter()
-            .flat_map(ContactResolution::warnings),
-    );
-    warnings.extend(units::scale_warnings(scene, &model, &contact_estimates));
-    warnings.extend(damping::damping_warnings(scene, &model, &contact_estimates));
+    for e in &contact_estimates {
+        warnings.extend(
+            e.tagged_warnings()
+                .into_iter()
+                .map(|(text, on_mesh)| Warning { text, on_mesh }),
+        );
+    }
+    warnings.extend(tag(
+        false,
+        units::scale_warnings(scene, &model, &contact_estimates),
+    ));
+    warnings.extend(tag(
+        false,
+        damping::damping_warnings(scene, &model, &contact_estimates),
+    ));
     Ok((model, warnings, contact_estimates))
 }
 
@@ -392,24 +422,6 @@ fn importer_warnings(model: &Model) -> Vec<String> {
                 .map(move |w| format!("body \"{}\": {w}", pd.name))
         })
         .collect()
-}
-
-/// The warnings of [`check_scene`] on the meshes alone, whatever the scene's values: what
-/// the importers found, a body's unconnected pieces, and the surface where a contact will be
-/// (tributary areas that vary, a mesh graded toward the contact). What a run of a study's
-/// own scene prints ([`RunOptions::study`]).
-pub fn mesh_warnings(
-    scene: &Scene,
-    model: &Model,
-    contact_estimates: &[ContactResolution],
-) -> Vec<String> {
-    let mut warnings = importer_warnings(model);
-    warnings.extend(checks::piece_warnings(scene, model));
-    for e in contact_estimates {
-        warnings.extend(e.area_warning());
-        warnings.extend(e.graded_warning());
-    }
-    warnings
 }
 
 /// Runs a scene; writes frames and `summary.json` into the output folder.
@@ -481,7 +493,7 @@ pub fn run_scene_with(
         folder
     };
     let comm = options.comm.clone().filter(|c| c.size() > 1);
-    let (mut model, warnings, contact_estimates) = check_scene_on(scene, comm.as_ref())?;
+    let (mut model, tagged, contact_estimates) = checked(scene, comm.as_ref())?;
     if let Some(comm) = comm {
         model.distribute(comm)?;
     }
@@ -492,15 +504,11 @@ pub fn run_scene_with(
     // In a decomposed run the first rank speaks and writes; the others only compute.
     let root = model.rank() == 0;
     if !options.quiet && root {
-        let printed = if options.study {
-            mesh_warnings(scene, &model, &contact_estimates)
-        } else {
-            warnings.clone()
-        };
-        for w in &printed {
-            eprintln!("warning: {w}");
+        for w in tagged.iter().filter(|w| w.on_mesh || !options.study) {
+            eprintln!("warning: {}", w.text);
         }
     }
+    let warnings: Vec<String> = tagged.into_iter().map(|w| w.text).collect();
     let mut frames = if root {
         FrameWriter::new(&folder, scene.output.every)?
     } else {

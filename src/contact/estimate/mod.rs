@@ -401,12 +401,22 @@ impl ContactResolution {
 
     /// The warnings that apply.
     pub fn warnings(&self) -> Vec<String> {
-        self.resolution_warning()
-            .into_iter()
-            .chain(self.area_warning())
-            .chain(self.graded_warning())
-            .chain(self.penalty_warning())
-            .collect()
+        self.tagged_warnings().into_iter().map(|(w, _)| w).collect()
+    }
+
+    /// [`Self::warnings`], each with whether it is about the slave's mesh alone (its areas
+    /// and grading where the contact will be) rather than about the scene's values (the load
+    /// the spacings are measured against, the penalty).
+    pub fn tagged_warnings(&self) -> Vec<(String, bool)> {
+        [
+            (self.resolution_warning(), false),
+            (self.area_warning(), true),
+            (self.graded_warning(), true),
+            (self.penalty_warning(), false),
+        ]
+        .into_iter()
+        .filter_map(|(w, on_mesh)| w.map(|w| (w, on_mesh)))
+        .collect()
     }
 
     /// Adds what the pair's penalty does under the estimated contact (METHOD.md §5): the
