@@ -123,10 +123,11 @@ pub(crate) enum Command {
         /// Not with --study
         #[arg(long, value_name = "BOOL", default_value_t = true, action = clap::ArgAction::Set, conflicts_with = "study")]
         skin_correction: bool,
-        /// The quasi-static solver: adaptive dynamic relaxation (adr, the default) or
-        /// Newton-Raphson (static; docs/PERFORMANCE.md, "The static solver"), written into
-        /// each scene. Not with --study
-        #[arg(long, value_enum, default_value_t = SolverArg::Adr, conflicts_with = "study")]
+        /// The quasi-static solver written into each scene: Newton-Raphson (static, the
+        /// default: the same figures as ADR's to 0.01 points, in a fifth to a half of the
+        /// time; docs/PERFORMANCE.md, "The static solver") or adaptive dynamic relaxation
+        /// (adr: the iteration counts of docs/VALIDATION.md). Not with --study
+        #[arg(long, value_enum, default_value_t = SolverArg::Static, conflicts_with = "study")]
         solver: SolverArg,
         /// With --mesh: press the sphere on a rigid plane (default), or on a copy of itself
         /// (two deformable bodies meshed alike, each held sideways at its centre; Hertz for two

@@ -42,7 +42,7 @@ use crate::studies::scenarios::{
 mod partner;
 mod report;
 mod shape;
-use partner::copy_partner;
+use partner::{copy_partner, plane_pins};
 use report::rows_named;
 pub use report::MeshValidation;
 pub use shape::{measure, MeshShape, SHAPE_TOLERANCE};
@@ -73,7 +73,8 @@ fn vector(v: [f64; 3]) -> String {
     format!("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]))
 }
 
-/// What a user may set on the body of `validate --mesh`'s scene; the defaults are `run`'s.
+/// What a user may set on the body of `validate --mesh`'s scene; the defaults are the command
+/// line's (`run`'s, but the static solver).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BodyChoices {
     /// The horizon factor m (METHOD.md §2: δ = mΔ, 3 by default).
@@ -146,7 +147,7 @@ impl Default for BodyChoices {
             second_order: SecondOrder::default(),
             refine: 0,
             skin_correction: true,
-            static_solver: false,
+            static_solver: true,
             poisson: None,
             influence: None,
             partner: Partner::Plane,
@@ -369,6 +370,9 @@ keep = "negative"
     }
     if body.static_solver {
         scene = crate::studies::scenarios::static_solver(&scene);
+        if body.partner == Partner::Plane {
+            scene.push_str(&plane_pins(name, shape));
+        }
     }
     ValidationCase {
         problem,

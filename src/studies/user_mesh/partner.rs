@@ -126,3 +126,60 @@ fn pins(body: &str, centre: [f64; 3], shape: &MeshShape) -> String {
     }
     out
 }
+
+/// The `[[constraint]]`s that hold a sphere or roller on `validate --mesh`'s rigid plane
+/// from what a frictionless plane leaves free, for the static solver: sliding across the
+/// pressing direction and turning about it (a roller, plane strain, held along its axis by
+/// its end faces: sliding across it and rolling about it). ADR's path keeps those modes at
+/// rest (the loads and the plane's forces have no part along them); Newton's inexact steps do
+/// not, and a whole sphere slid 1-2.5 cm, a sixth to a third of a spacing, to the same
+/// figures. As many single-direction pins as free modes, at the particles nearest the
+/// centre and half a radius from it: a statically determinate support, so at equilibrium
+/// they carry nothing (no load has a part along the modes they hold), and the figures are
+/// ADR's. Pins where the axisymmetric solution is at rest, as the copy's ([`pins`]), hold
+/// more than the free modes: on the stored tet4 sphere at ν = 0.3 they moved the contact
+/// radius by 2 points.
+pub(super) fn plane_pins(body: &str, shape: &MeshShape) -> String {
+    let press = shape.press;
+    let name = ["x", "y", "z"];
+    let pin = |p: [f64; 3], fix: usize| {
+        format!(
+            "\n[[constraint]]\nbody = \"{body}\"\nnearest = {}\nfix = [\"{}\"]\n",
+            vector(p),
+            name[fix]
+        )
+    };
+    let mut out = format!(
+        "\n# \"{body}\": pins for the static solver, one per motion a frictionless plane leaves free;\n# they carry nothing at equilibrium.\n"
+    );
+    let centre = shape.centre;
+    let offset = |axis: usize| {
+        let mut p = centre;
+        p[axis] += 0.5 * shape.radius;
+        p
+    };
+    match shape.axis_index {
+        // Across the roller's axis and the pressing direction: sliding, and rolling about
+        // the axis (the pin above the centre).
+        Some(k) => {
+            let across = 3 - press - k;
+            out += &pin(centre, across);
+            let above = if centre[press] > shape.lowest {
+                1.0
+            } else {
+                -1.0
+            };
+            let mut p = centre;
+            p[press] += above * 0.5 * shape.radius;
+            out += &pin(p, across);
+        }
+        // Across the pressing direction: sliding both ways, and turning about it.
+        None => {
+            let (a, b) = ((press + 1) % 3, (press + 2) % 3);
+            out += &pin(centre, a);
+            out += &pin(centre, b);
+            out += &pin(offset(a), b);
+        }
+    }
+    out
+}
