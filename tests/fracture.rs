@@ -310,6 +310,40 @@ fn a_crushed_slave_is_named_as_the_cause_of_a_missed_contact() {
     assert!(!err.contains("impact speed is too high"), "{err}");
 }
 
+/// The same plate with its notch, hit at 200 m/s: the crushed edge pushes the notch's faces,
+/// which nothing presses together, 0.69 Δ through each other at its mouth, and a crushed
+/// particle through the projectile's face stops the run at step 61. The error names both, the
+/// crossing first (a quarter spacing or more: why the run failed), the stop beside it; at
+/// 32 m/s and Δ = 1 mm, where the faces crossed by 0.03 Δ, the stop comes first.
+#[test]
+fn a_stop_beside_crossed_crack_faces_names_both() {
+    let plate = KalthoffPlate {
+        spacing: 0.0015,
+        end_time: pdcontact::studies::fracture::kalthoff::END_TIME,
+    };
+    let scene = plate
+        .scene(".")
+        .replace("velocity = [32, 0, 0]", "velocity = [200, 0, 0]");
+    let err = match common::try_run_text(&scene, "fracture-crossed") {
+        Ok(_) => panic!("the plate's edge is crushed through the projectile's face"),
+        Err(e) => e.to_string(),
+    };
+    let (crack, stop) = (
+        err.find("passed through each other").expect(&err),
+        err.find("(the run stopped: missed contact at step")
+            .expect(&err),
+    );
+    assert!(crack < stop, "{err}");
+    assert!(err.contains("is crushed material"), "{err}");
+    let depth: f64 = err
+        .split(" Δ) behind particle")
+        .next()
+        .and_then(|h| h.rsplit('(').next())
+        .and_then(|d| d.trim().parse().ok())
+        .expect(&err);
+    assert!(depth >= 0.25, "{err}");
+}
+
 /// The bonds of the elastic state of `scene` that pass the critical stretch `s0`, by the
 /// stretch alone and with `failure = "tension"` ([`pdcontact::body::PdBody::spare_compressed`]):
 /// `(i, partner, stretch)` each, the body's reference positions with them.

@@ -369,8 +369,9 @@ const LPS_SKIN_NU: f64 = 0.35;
 
 /// After a run that did not find equilibrium: the pre-crack whose faces passed through each
 /// other, which nothing pressed together (no `[[contact]]` names the body as its own master),
-/// named with the deepest pair of particles; `None` where no face crossed.
-pub fn crossed_cracks(model: &Model, scene: &Scene) -> Option<crate::error::Error> {
+/// named with the deepest pair of particles (the message of a numerical failure), and how
+/// deep, in the body's spacings; `None` where no face crossed.
+pub fn crossed_cracks(model: &Model, scene: &Scene) -> Option<(String, f64)> {
     for body in &model.bodies {
         let Some(pd) = body.as_pd() else { continue };
         let Some((k, a, b, depth)) = pd.crossed_crack() else {
@@ -386,22 +387,28 @@ pub fn crossed_cracks(model: &Model, scene: &Scene) -> Option<crate::error::Erro
             "nothing presses the faces of a pre-crack together unless a [[contact]] names the body as its own slave and master"
         };
         let (xa, xb) = (pd.reference[a as usize], pd.reference[b as usize]);
+        let spacings = depth / pd.spacing();
         // Where the run failed, not what was read: a numerical failure at the block's line.
-        return Some(crate::error::Error::Numerical(scene.block_error(
-            "[[precrack]]",
-            k,
-            format!(
-                "the faces of this pre-crack in \"{}\" passed through each other: particle {b} (at [{}, {}, {}]) lies {} m behind particle {a} (at [{}, {}, {}]) across the crack; {why}",
-                pd.name,
-                num(xb.x),
-                num(xb.y),
-                num(xb.z),
-                num(depth),
-                num(xa.x),
-                num(xa.y),
-                num(xa.z),
-            ),
-        ).to_string()));
+        return Some((
+            scene
+                .block_error(
+                        "[[precrack]]",
+                        k,
+                        format!(
+                            "the faces of this pre-crack in \"{}\" passed through each other: particle {b} (at [{}, {}, {}]) lies {} m ({spacings:.2} Δ) behind particle {a} (at [{}, {}, {}]) across the crack; {why}",
+                            pd.name,
+                            num(xb.x),
+                            num(xb.y),
+                            num(xb.z),
+                            num(depth),
+                            num(xa.x),
+                            num(xa.y),
+                            num(xa.z),
+                        ),
+                    )
+                .to_string(),
+            spacings,
+        ));
     }
     None
 }
