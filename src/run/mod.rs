@@ -621,7 +621,14 @@ pub fn run_scene_with(
     let (contact, applied, balance) = force_balance(&model);
     let (radius, peak) = patch_figures(&model);
     let accuracy = report::AccuracyCheck::of(&model, &contact_estimates, radius, peak);
-    let after = report::drift_warnings(&model);
+    let mut after = report::drift_warnings(&model);
+    if scene.solver.kind == SolverKind::Explicit && error.is_none() {
+        let breaks = model
+            .bodies
+            .iter()
+            .any(|b| b.as_pd().is_some_and(|pd| pd.fracture.is_some()));
+        after.extend(report::energy_warning(stats.energy_drift, breaks));
+    }
     if !options.quiet && root {
         for w in &after {
             eprintln!("warning: {w}");
