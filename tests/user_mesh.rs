@@ -40,7 +40,6 @@ fn temp_dir(name: &str) -> PathBuf {
 /// solver, the default; ADR, `--solver adr`, stops at radius +0.20 % within the same
 /// tolerance, in 30 s). Its scene carries the key.
 #[test]
-#[ignore = "a slow validation run (about 20-30 s): .ci/run runs it with --ignored"]
 fn sphere_on_the_stored_tet_mesh() {
     let dir = temp_dir("sphere");
     let mesh = repo("meshes/sphere_tet4_h007.msh");
@@ -439,7 +438,6 @@ fn sphere_on_a_mesh_refined_towards_the_contact() {
 /// cores by the static solver, 17-26 s by ADR). The mid-edge nodes double the spacings across the contact. (Without the skin
 /// correction: 7.55 %, +4.70 % and 4.28 %, +3.24 %.)
 #[test]
-#[ignore = "a slow validation run (about 20-30 s): .ci/run runs it with --ignored"]
 fn tet10_sphere_with_all_its_nodes() {
     let dir = temp_dir("tet10-all");
     let mesh = repo("meshes/sphere_tet10_h008.msh");
