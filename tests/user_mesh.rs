@@ -190,6 +190,10 @@ fn the_static_default_gives_adrs_figures() {
             std::fs::read_to_string(v["scene"].as_str().expect("scene path"))
                 .expect("scene written")
         };
+        assert_eq!(
+            (&newton["solver"], &adr["solver"]),
+            (&"static".into(), &"adr".into())
+        );
         let (s, a) = (scene(&newton), scene(&adr));
         assert!(s.contains("kind = \"static\""), "{s}");
         assert_eq!(s.matches("[[constraint]]").count(), pins, "{s}");

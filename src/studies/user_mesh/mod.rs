@@ -556,6 +556,7 @@ pub fn validate_mesh(
         scene,
         rows,
         remedy,
+        solver: if body.static_solver { "static" } else { "adr" }.into(),
     })
 }
 

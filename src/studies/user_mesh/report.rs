@@ -29,6 +29,9 @@ pub struct MeshValidation {
     pub rows: Vec<ValidationRow>,
     /// The second row's particles, where the contact was poorly resolved on the mesh's own.
     pub remedy: Option<Remedy>,
+    /// The quasi-static solver the scenes were run with: `"static"` (the default) or
+    /// `"adr"`; the table's `iters` are its iterations.
+    pub solver: String,
 }
 
 impl MeshValidation {
@@ -69,6 +72,10 @@ impl MeshValidation {
         }
         out.push('\n');
         out.push_str(&table_with_peak(&self.rows));
+        out.push_str(match self.solver.as_str() {
+            "static" => "iters: Newton iterations of the static solver (`--solver adr` for ADR's, to the same figures)\n",
+            _ => "iters: ADR iterations (the static solver, the default, gives the same figures in far fewer)\n",
+        });
         if let Some(r) = self.rows.first() {
             out.push_str(&format!(
                 "\nScene: {}\nFrames: {}\nChart: {}\n",
