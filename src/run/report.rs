@@ -122,9 +122,9 @@ impl AccuracyCheck {
 }
 
 /// The energy drift above which an explicit run that finished is warned of: the runs of
-/// docs/FRACTURE.md and docs/STABILITY.md that hold together end within 0.3 % (the ball
-/// through the plate) to 4.4 % (the Kalthoff plate at Δ = 1.5 mm); one that let crushed
-/// particles through the projectile ended 22 % off without a word.
+/// docs/FRACTURE.md that hold together end within 0.1-0.3 % (the ball through the plate) to
+/// 4.4 % (the Kalthoff plate at Δ = 1.5 mm); one that let crushed particles through the
+/// projectile ended 22 % off without a word.
 pub const ENERGY_DRIFT_WARNING: f64 = 0.05;
 
 /// The warning for an explicit run whose energy balance (kinetic, strain, contact and the work
