@@ -623,10 +623,12 @@ pub fn run_scene_with(
     let accuracy = report::AccuracyCheck::of(&model, &contact_estimates, radius, peak);
     let mut after = report::drift_warnings(&model);
     if scene.solver.kind == SolverKind::Explicit && error.is_none() {
-        let breaks = model
-            .bodies
-            .iter()
-            .any(|b| b.as_pd().is_some_and(|pd| pd.fracture.is_some()));
+        // Bonds that may fail, not pre-cracks alone (which cut bonds but break none).
+        let breaks = model.bodies.iter().any(|b| {
+            b.as_pd()
+                .and_then(|pd| pd.fracture.as_ref())
+                .is_some_and(|f| f.critical_stretch.is_some())
+        });
         after.extend(report::energy_warning(stats.energy_drift, breaks));
     }
     if !options.quiet && root {
