@@ -233,6 +233,14 @@ impl PdBody {
         self.case.particles.position[i] + self.u[i]
     }
 
+    /// Whether bonds of this body fail during a run (a critical stretch; pre-cracks alone cut
+    /// bonds but break none).
+    pub fn may_break(&self) -> bool {
+        self.fracture
+            .as_ref()
+            .is_some_and(|f| f.critical_stretch.is_some())
+    }
+
     /// Grid spacing Δ.
     pub fn spacing(&self) -> f64 {
         self.case.particles.spacing

@@ -125,24 +125,17 @@ struct Side {
     normal: Vec<Vec3>,
 }
 
-/// Whether bonds of `b` fail during a run.
-fn breaks(b: &PdBody) -> bool {
-    b.fracture
-        .as_ref()
-        .is_some_and(|f| f.critical_stretch.is_some())
-}
-
 /// Whether particle `i` of `b` is on a surface now: the outer surface, or (where bonds fail)
 /// a new one, having lost a bond. A particle of a new surface has no outward normal (zero),
 /// so it is never found behind the other body's surface.
 fn exposed(b: &PdBody, i: usize) -> bool {
-    b.case.surface.is_surface[i] || (breaks(b) && b.damage(i) > 0.0)
+    b.case.surface.is_surface[i] || (b.may_break() && b.damage(i) > 0.0)
 }
 
 /// The outward normal of surface particle `i` now ([`slave_normal`]); none (zero) where it
 /// has lost a bond in a run, since a broken surface has no outward side to be behind.
 fn normal(b: &PdBody, i: usize) -> Vec3 {
-    if breaks(b) && b.damage(i) > 0.0 {
+    if b.may_break() && b.damage(i) > 0.0 {
         Vec3::zeros()
     } else {
         slave_normal(b, i)
@@ -164,7 +157,7 @@ fn side(b: &PdBody, surface: &[u32]) -> Side {
     }
     let is_surface = &b.case.surface.is_surface;
     for (&src, &mask) in g.source.iter().zip(&g.mask) {
-        if is_surface[src as usize] || (breaks(b) && b.damage(src as usize) > 0.0) {
+        if is_surface[src as usize] || (b.may_break() && b.damage(src as usize) > 0.0) {
             s.pos.push(g.reflect(b.position(src as usize), mask));
             s.volume.push(vol[src as usize] / g.share(src as usize));
             let n = normal(b, src as usize);
@@ -186,7 +179,7 @@ impl ShortRangePass {
         // exposed at the evaluation ([`exposed`]).
         let surface = |b: &PdBody| -> Vec<u32> {
             (0..b.len() as u32)
-                .filter(|&i| breaks(b) || b.case.surface.is_surface[i as usize])
+                .filter(|&i| b.may_break() || b.case.surface.is_surface[i as usize])
                 .collect()
         };
         let slaves = surface(sb);

@@ -72,13 +72,9 @@ fn view_script(model: &Model, iteration_word: &str) -> String {
         .collect();
     let damage: Vec<String> = (0..model.bodies.len())
         .filter(|&k| {
-            model.bodies[k].as_pd().is_some_and(|pd| {
-                let breaks = pd
-                    .fracture
-                    .as_ref()
-                    .is_some_and(|f| f.critical_stretch.is_some());
-                breaks || !self_pressed.contains(&k)
-            })
+            model.bodies[k]
+                .as_pd()
+                .is_some_and(|pd| pd.may_break() || !self_pressed.contains(&k))
         })
         .map(name)
         .collect();

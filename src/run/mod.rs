@@ -15,7 +15,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::body::Body;
+use crate::body::{Body, PdBody};
 use crate::contact::estimate::ContactResolution;
 use crate::error::{Error, Result};
 use crate::math::Vec3;
@@ -624,11 +624,10 @@ pub fn run_scene_with(
     let mut after = report::drift_warnings(&model);
     if scene.solver.kind == SolverKind::Explicit && error.is_none() {
         // Bonds that may fail, not pre-cracks alone (which cut bonds but break none).
-        let breaks = model.bodies.iter().any(|b| {
-            b.as_pd()
-                .and_then(|pd| pd.fracture.as_ref())
-                .is_some_and(|f| f.critical_stretch.is_some())
-        });
+        let breaks = model
+            .bodies
+            .iter()
+            .any(|b| b.as_pd().is_some_and(PdBody::may_break));
         after.extend(report::energy_warning(stats.energy_drift, breaks));
     }
     if !options.quiet && root {

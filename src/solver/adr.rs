@@ -11,7 +11,7 @@ use super::{
     applied_norm, check_missed, displacement_reference, driven, free_factor, full_loads,
     record_increment, scale_loads, Monitor, RunStats,
 };
-use crate::body::Body;
+use crate::body::{Body, PdBody};
 use crate::error::{Error, Result};
 use crate::math::Vec3;
 use crate::model::Model;
@@ -245,11 +245,11 @@ pub fn adr(
     let full = full_loads(model);
     // Bonds that break in an increment that is then cut back would stay broken: the path
     // would not be the one walked again. Such runs take their increments as given.
-    let may_cut = !model.bodies.iter().filter_map(Body::as_pd).any(|pd| {
-        pd.fracture
-            .as_ref()
-            .is_some_and(|f| f.critical_stretch.is_some())
-    });
+    let may_cut = !model
+        .bodies
+        .iter()
+        .filter_map(Body::as_pd)
+        .any(PdBody::may_break);
     let mut n = 0;
     let mut done = 0.0;
     'steps: for step in 1..=steps {
