@@ -11,7 +11,8 @@
 //! the contacts that the step makes ([`super::predict`]) until they stop changing, then looks along
 //! `d` for the point where the energy's slope `d·R(u + αd)` has fallen to half its value
 //! at `α = 0` (regula falsi, at most [`LINE_SEARCH`] force evaluations; a trial state with a
-//! missed contact is a step too long), unless the whole step is sound and brings slaves into
+//! missed contact, or one the step's linearisation carries a slave through its master
+//! ([`predict::Reach`]), is a step too long), unless the whole step is sound and brings slaves into
 //! contact that were not: that step is taken whole, so that the contact does not grow by one
 //! ring of slaves per iteration. An increment whose residual stops falling once its
 //! contacts have settled ([`STALL_WINDOW`]) is handed to ADR from the state Newton reached:
@@ -461,9 +462,10 @@ fn increment(
         };
         counts.linear += solve(model, &mut tangent, &rhs, &mut d, false);
         // The contacts the step makes, predicted: the solve again with their springs.
-        let predicted = predict::with_contacts(model, &mut tangent, &rhs, &mut d, |m, t, b, x| {
-            solve(m, t, b, x, true)
-        });
+        let (predicted, reach) =
+            predict::with_contacts(model, &mut tangent, &rhs, &mut d, |m, t, b, x| {
+                solve(m, t, b, x, true)
+            });
         counts.linear += predicted;
         // The energy's slope along d: `dᵀR = dᵀS (S⁻¹R)`, the shares put back.
         let mut g0 = d.dot_shares(&rhs, model);
@@ -482,7 +484,7 @@ fn increment(
             continue;
         }
         // A failed line search leaves the state it started from (sound).
-        if !line_search(model, &d, g0, &mut rhs) {
+        if !line_search(model, &d, g0, &reach, &mut rhs) {
             gave_up = Some(format!(
                 "Newton iteration {it}: no step along the Newton direction keeps every slave outside its master"
             ));
@@ -542,7 +544,13 @@ fn stalled(history: &[(f64, usize)]) -> bool {
 /// force, not divided by the shares) has fallen to half of `g0` (its value at the start), by
 /// regula falsi, or the whole step where that is sound and brings more slaves into contact;
 /// ends with the forces evaluated at the state taken. False if no trial state was sound.
-fn line_search(model: &mut Model, d: &Dofs, g0: f64, scratch: &mut Dofs) -> bool {
+fn line_search(
+    model: &mut Model,
+    d: &Dofs,
+    g0: f64,
+    reach: &predict::Reach,
+    scratch: &mut Dofs,
+) -> bool {
     let start = State::of(model);
     let contacts = model.contact_count();
     let mut first = true;
@@ -555,10 +563,13 @@ fn line_search(model: &mut Model, d: &Dofs, g0: f64, scratch: &mut Dofs) -> bool
     // is replaced twice in a row, so that regula falsi does not stall against a convex slope.
     let mut last_side = 0i8;
     for _ in 0..LINE_SEARCH {
+        // A slave carried past the contact search's reach reads as out of contact, not
+        // missed: the step's own linearisation tells it.
+        let through = reach.through(model, alpha, d);
         start.apply(model, Some((alpha, d)));
         model.compute_forces();
         at = alpha;
-        if !sound(model) {
+        if through || !sound(model) {
             // Too far: a slave went through. An upper bound with an unknown slope.
             first = false;
             hi = Some((alpha, f64::NEG_INFINITY));
