@@ -34,6 +34,9 @@ pub struct ValidationRow {
     pub radius_error: f64,
     pub force_balance_error: f64,
     pub iterations: usize,
+    /// The static solver: ADR iterations taken where Newton stalled, after `iterations`.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub relaxation_iterations: usize,
     pub wall_seconds: f64,
     pub output_pvd: PathBuf,
     pub theory_radius: f64,
@@ -168,6 +171,7 @@ pub fn run_case(case: &ValidationCase, folder: &Path, quiet: bool) -> Result<Vec
             radius_error: acc.radius_error,
             force_balance_error: summary.force_balance_error,
             iterations: summary.iterations,
+            relaxation_iterations: summary.solver.relaxation_iterations,
             wall_seconds: wall,
             output_pvd: summary.outputs.pvd.clone(),
             theory_radius: *a,
@@ -272,4 +276,9 @@ fn write_chart(
         legend(&mut chart).draw().map_err(|e| draw(&e))?;
         Ok(())
     })
+}
+
+/// Serde's test for a count left out of the JSON where it is zero.
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }

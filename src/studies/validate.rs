@@ -37,7 +37,7 @@ fn table_columns(rows: &[ValidationRow], peak: bool) -> String {
         s.push_str(&format!(" {:>9} {:>9}", "peak", "shear"));
     }
     s.push_str(&format!(
-        " {:>9} {:>7} {:>8}\n",
+        " {:>9} {:>10} {:>8}\n",
         "balance", "iters", "seconds"
     ));
     for r in rows {
@@ -62,9 +62,14 @@ fn table_columns(rows: &[ValidationRow], peak: bool) -> String {
                 None => s.push_str(&format!(" {:>9}", "–")),
             }
         }
+        // Newton's iterations, and ADR's where Newton stalled.
+        let iters = match r.relaxation_iterations {
+            0 => r.iterations.to_string(),
+            n => format!("{}+{n}", r.iterations),
+        };
         s.push_str(&format!(
-            " {:>9.1e} {:>7} {:>8.1}\n",
-            r.force_balance_error, r.iterations, r.wall_seconds
+            " {:>9.1e} {:>10} {:>8.1}\n",
+            r.force_balance_error, iters, r.wall_seconds
         ));
     }
     s

@@ -73,7 +73,7 @@ impl MeshValidation {
         out.push('\n');
         out.push_str(&table_with_peak(&self.rows));
         out.push_str(match self.solver.as_str() {
-            "static" => "iters: Newton iterations of the static solver (`--solver adr` for ADR's, to the same figures)\n",
+            "static" => "iters: Newton iterations of the static solver, + ADR's where Newton stalled (`--solver adr` for ADR's alone, to the same figures)\n",
             _ => "iters: ADR iterations (the static solver, the default, gives the same figures in far fewer)\n",
         });
         if let Some(r) = self.rows.first() {
