@@ -28,27 +28,27 @@ use crate::model::Model;
 /// Linear solves a Newton iteration may repeat with the contacts it predicts.
 pub const ROUNDS: usize = 4;
 
-/// How deep, in windows, the step's own linearisation may carry a slave behind the segment it
-/// touched or faced at the step's start before the state is taken for one it went through.
-pub const THROUGH: f64 = 2.0;
-
 /// The slaves a step must not carry through their masters: those in contact at the step's
 /// start and those open in front of a segment, each with its linearised gap. The contact
 /// search reports a slave behind a segment by more than the window as a missed contact, but
-/// only within its reach (a spacing or so): a step that carries a body through its partner
+/// only within its reach (a segment is a slave's candidate where a corner of it lies within
+/// the pass's cutoff and skin, a spacing or so): a step that carries a body through its partner
 /// by more than that (a Newton step whose tangent nothing held along a rigid mode: two gmsh
 /// spheres, each held by the other alone, moved 3 m through each other) leaves every slave
 /// out of reach, and the state reads as sound and out of contact.
 #[derive(Default)]
 pub(super) struct Reach {
     /// Each slave's spring (its normal or gap gradient, the master's motion), its gap at the
-    /// start (negative: pressed in), and the depth past which it went through (m).
+    /// start (negative: pressed in), and the depth past which the search no longer sees it
+    /// (m: the pass's cutoff and skin).
     slaves: Vec<(Spring, f64, f64)>,
 }
 
 impl Reach {
-    /// True if the step `alpha d` carries a slave deeper than [`THROUGH`] windows behind its
-    /// segment, by the step's linearisation (on any rank).
+    /// True if the step `alpha d` carries a slave deeper behind its segment than the contact
+    /// search reaches, by the step's linearisation (on any rank). Within that reach the
+    /// search itself tells a missed contact, so the linearisation's error on a slave sliding
+    /// over a curved master does not cut steps the search would take.
     pub(super) fn through(&self, model: &Model, alpha: f64, d: &Dofs) -> bool {
         let here = self.slaves.iter().any(|(s, gap, deep)| {
             let u = d.pd[s.body][s.slave as usize] - s.master.motion(d);
@@ -75,7 +75,10 @@ pub(super) fn with_contacts(
             .iter()
             .map(|o| (o.spring, o.gap))
             .chain(held.iter().map(|h| (h.spring, -h.penetration)))
-            .map(|(s, gap)| (s, gap, THROUGH * model.passes[s.pass].law.window))
+            .map(|(s, gap)| {
+                let pass = &model.passes[s.pass];
+                (s, gap, pass.cutoff + pass.skin)
+            })
             .collect(),
     };
     let mut products = 0;
