@@ -60,7 +60,8 @@ impl Reach {
 
 /// Repeats the linear solve of the step `d` (`solve(model, tangent, rhs, d)`, from `d` as it
 /// is) with the springs of the contacts it makes, until they stop changing or [`ROUNDS`]
-/// times; returns the tangent products taken (0: none predicted).
+/// times; returns the tangent products taken (0: none predicted) and the [`Reach`] of the
+/// state's open and held slaves, for the line search.
 pub(super) fn with_contacts(
     model: &mut Model,
     tangent: &mut Tangent,
