@@ -564,11 +564,13 @@ fn line_search(
     let mut last_side = 0i8;
     for _ in 0..LINE_SEARCH {
         // A slave carried past the contact search's reach reads as out of contact, not
-        // missed: the step's own linearisation tells it.
+        // missed: the step's own linearisation tells it, before the forces are evaluated.
         let through = reach.through(model, alpha, d);
-        start.apply(model, Some((alpha, d)));
-        model.compute_forces();
-        at = alpha;
+        if !through {
+            start.apply(model, Some((alpha, d)));
+            model.compute_forces();
+            at = alpha;
+        }
         if through || !sound(model) {
             // Too far: a slave went through. An upper bound with an unknown slope.
             first = false;
