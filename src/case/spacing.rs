@@ -68,23 +68,31 @@ pub fn graded_spacing(
             }
         });
     };
-    let median_pass = |s: &[f64]| -> Vec<f64> {
-        (0..n)
+    // Each particle's median side over its window, and whether it was alone there.
+    let median_pass = |s: &[f64]| -> (Vec<f64>, bool) {
+        let both: Vec<(f64, bool)> = (0..n)
             .into_par_iter()
             .map(|i| {
                 let mut near = Vec::with_capacity(128);
                 window(s, i, &mut |j| near.push(side[j]));
+                let alone = near.len() < 2;
                 let mid = near.len() / 2;
-                *near.select_nth_unstable_by(mid, f64::total_cmp).1
+                (*near.select_nth_unstable_by(mid, f64::total_cmp).1, alone)
             })
-            .collect()
+            .collect();
+        let alone = both.iter().any(|&(_, a)| a);
+        (both.into_iter().map(|(s, _)| s).collect(), alone)
     };
-    let mut s = median_pass(&vec![spacing; n]);
-    if spread(&s) < GRADED_RATIO {
+    let (mut s, alone) = median_pass(&vec![spacing; n]);
+    // A particle with no other within WINDOW Δ has no bond at δ = mΔ (m ≤ 3): the mesh is
+    // graded there, however few such particles the percentiles see (a sphere refined 12:1
+    // towards its pole, whose coarse core holds 2 % of its nodes, left five of them
+    // unbonded).
+    if spread(&s) < GRADED_RATIO && !alone {
         return None;
     }
     for _ in 1..PASSES {
-        s = median_pass(&s);
+        s = median_pass(&s).0;
     }
     Some(
         (0..n)
@@ -95,11 +103,23 @@ pub fn graded_spacing(
                     sum += s[j];
                     count += 1;
                 });
-                sum / count as f64
+                let mean = sum / count as f64;
+                // Where the mesh coarsens faster than the window's median follows (12:1 over
+                // a few elements), a coarse particle's window holds the fine side's particles,
+                // its spacing came out a fifth of its own cell's, and its horizon fell short of
+                // its nearest neighbours (a sphere refined 12:1 towards its pole left five
+                // particles of its core without a bond): s_i is at least OWN_CELL of its own
+                // cell's side.
+                mean.max(OWN_CELL * side[i])
             })
             .collect(),
     )
 }
+
+/// The share of a particle's own cell side (`(V_i/ω_i)^(1/3)`) below which its local spacing
+/// does not fall ([`graded_spacing`]). A tet mesh's nodal volumes spread 5:1, their sides
+/// 1.7:1, so on a mesh that grades as its window follows the floor stays below the mean.
+pub const OWN_CELL: f64 = 0.35;
 
 #[cfg(test)]
 mod tests {
@@ -149,5 +169,35 @@ mod tests {
         }
         let v = vec![0.05f64.powi(3); p.len()];
         assert!(graded_spacing(&p, &v, 0.05).is_none());
+    }
+
+    /// The same lattice with a coarse part too small for the percentiles to see: a row of
+    /// particles 0.2 apart, 1.45 beyond it, each alone within 3Δ. Graded, and their spacing is
+    /// theirs, so that their horizon reaches their neighbours.
+    #[test]
+    fn a_few_coarse_particles_make_a_mesh_graded() {
+        let mut p = Vec::new();
+        for i in 0..12 {
+            for j in 0..12 {
+                for k in 0..12 {
+                    p.push(Vec3::new(i as f64, j as f64, k as f64) * 0.05);
+                }
+            }
+        }
+        let mut v = vec![0.05f64.powi(3); p.len()];
+        let fine = p.len();
+        for k in 0..8 {
+            p.push(Vec3::new(2.0 + 0.2 * k as f64, 0.3, 0.3));
+            v.push(0.2f64.powi(3));
+        }
+        let s = graded_spacing(&p, &v, 0.05).expect("the coarse row is alone at 3Δ");
+        assert!(
+            spread(&s) < GRADED_RATIO,
+            "the percentiles see a uniform mesh"
+        );
+        for (k, sk) in s[fine..].iter().enumerate() {
+            // Each coarse particle's window reaches its neighbours 0.2 away.
+            assert!(WINDOW * sk > 0.2, "coarse particle {k}: s = {sk}");
+        }
     }
 }

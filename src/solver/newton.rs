@@ -446,7 +446,6 @@ fn increment(
         if let Some(space) = coarse.as_ref() {
             tangent.build_coarse(model, space);
         }
-        stabilise *= 0.5;
         // Inexact Newton (Eisenstat and Walker's second choice): loose while the residual
         // falls slowly, tight as it falls fast, never much tighter than the tolerance needs.
         let eta = match previous {
@@ -484,11 +483,19 @@ fn increment(
             continue;
         }
         // A failed line search leaves the state it started from (sound).
-        if !line_search(model, &d, g0, &reach, &mut rhs) {
+        let Some(whole_sound) = line_search(model, &d, g0, &reach, &mut rhs) else {
             gave_up = Some(format!(
                 "Newton iteration {it}: no step along the Newton direction keeps every slave outside its master"
             ));
             continue;
+        };
+        // The stabilisation fades while the whole Newton step stays sound. Where it carried a
+        // slave through its master, the contacts do not hold the body yet: halved then, the
+        // springs let the load move it twice as far at each iteration, and a body that its
+        // contacts did not hold went metres through its partner (docs/VALIDATION.md, "A
+        // Newton step through the partner").
+        if whole_sound {
+            stabilise *= 0.5;
         }
         previous_tangent = Some(tangent);
         it += 1;
@@ -543,14 +550,15 @@ fn stalled(history: &[(f64, usize)]) -> bool {
 /// Moves the model along `d` to where the energy's slope `d·R` (`R` the out-of-balance
 /// force, not divided by the shares) has fallen to half of `g0` (its value at the start), by
 /// regula falsi, or the whole step where that is sound and brings more slaves into contact;
-/// ends with the forces evaluated at the state taken. False if no trial state was sound.
+/// ends with the forces evaluated at the state taken. `None` if no trial state was sound, else
+/// whether the whole step was.
 fn line_search(
     model: &mut Model,
     d: &Dofs,
     g0: f64,
     reach: &predict::Reach,
     scratch: &mut Dofs,
-) -> bool {
+) -> Option<bool> {
     let start = State::of(model);
     let contacts = model.contact_count();
     let mut first = true;
@@ -562,6 +570,7 @@ fn line_search(
     // Which end the last trial replaced: Illinois halves the other end's slope when one end
     // is replaced twice in a row, so that regula falsi does not stall against a convex slope.
     let mut last_side = 0i8;
+    let mut whole_sound = true;
     for _ in 0..LINE_SEARCH {
         // A slave carried past the contact search's reach reads as out of contact, not
         // missed: the step's own linearisation tells it, before the forces are evaluated.
@@ -573,6 +582,7 @@ fn line_search(
         }
         if through || !sound(model) {
             // Too far: a slave went through. An upper bound with an unknown slope.
+            whole_sound &= !first;
             first = false;
             hi = Some((alpha, f64::NEG_INFINITY));
             alpha = 0.5 * (lo + alpha);
@@ -587,7 +597,7 @@ fn line_search(
         // just touch (where the energy's slope turns), the contact grew one ring of slaves
         // per iteration (docs/PERFORMANCE.md, "The static solver").
         if g.abs() <= 0.5 * g0 || (first && model.contact_count() > contacts) {
-            return true;
+            return Some(whole_sound);
         }
         first = false;
         if g > 0.0 {
@@ -615,7 +625,7 @@ fn line_search(
             Some((a_hi, _)) => 0.5 * (lo + a_hi),
             // Still going down at α = lo: further, up to four full steps.
             None if lo < 4.0 => (2.0 * lo).min(4.0),
-            None => return true,
+            None => return Some(whole_sound),
         };
     }
     // The last trial was not good enough: take the last sound state, which lowered the
@@ -626,12 +636,12 @@ fn line_search(
                 start.apply(model, Some((a, d)));
                 model.compute_forces();
             }
-            sound(model)
+            sound(model).then_some(whole_sound)
         }
         None => {
             start.apply(model, None);
             model.compute_forces();
-            false
+            None
         }
     }
 }
@@ -640,8 +650,10 @@ fn line_search(
 mod tests {
     use super::super::coarse::tests::stacked;
     use super::super::dofs::Dofs;
+    use super::super::predict::with_contacts;
+    use super::super::tangent::Tangent;
     use super::super::{applied_norm, RunStats, Silent};
-    use super::{newton, relax, residual, stalled, Counts, STALL_WINDOW};
+    use super::{line_search, newton, relax, residual, stalled, Counts, STALL_WINDOW};
 
     /// Where an increment stalls, ADR takes over from the state Newton left ([`relax`]): on the
     /// two gmsh tet4 spheres pressed together, from Newton's state at a loose tolerance it
@@ -662,6 +674,40 @@ mod tests {
             r < 1e-5,
             "residual {r:.3e} after {} ADR iterations",
             counts.relaxed
+        );
+    }
+
+    /// The line search says whether the whole Newton step was sound, which decides whether
+    /// the stabilisation fades: on the pressed pair, a step carrying the upper sphere 10 cm
+    /// down (five windows) is cut back to a sound state and reported as not sound whole; a
+    /// step of a hundredth of the window is taken whole.
+    #[test]
+    fn the_line_search_tells_a_whole_step_that_went_through() {
+        let mut model = stacked();
+        newton(&mut model, 1e-5, 200, 1, &mut Silent).expect("the pair converges");
+        let mut blocks = vec![None; model.bodies.len()];
+        let mut tangent = Tangent::new(&model, 0.0, None, &mut blocks, false);
+        let (rhs, mut d) = (Dofs::zeros(&model), Dofs::zeros(&model));
+        let (_, reach) = with_contacts(&mut model, &mut tangent, &rhs, &mut d, |_, _, _, _| 0);
+        let upper = model.passes[0].slave;
+        let window = model.passes[0].law.window;
+        let mut scratch = Dofs::zeros(&model);
+        let step = |depth: f64| {
+            let mut down = Dofs::zeros(&model);
+            down.pd[upper].fill(-crate::math::Vec3::z() * depth);
+            down
+        };
+        let (far, near) = (step(5.0 * window), step(0.01 * window));
+        assert_eq!(
+            line_search(&mut model, &far, 1.0, &reach, &mut scratch),
+            Some(false)
+        );
+        assert_eq!(model.missed_contacts(), 0);
+        let mut model = stacked();
+        newton(&mut model, 1e-5, 200, 1, &mut Silent).expect("the pair converges");
+        assert_eq!(
+            line_search(&mut model, &near, 1.0, &reach, &mut scratch),
+            Some(true)
         );
     }
 
