@@ -678,8 +678,8 @@ mod tests {
     }
 
     /// The line search says whether the whole Newton step was sound, which decides whether
-    /// the stabilisation fades: on the pressed pair, a step carrying the upper sphere 10 cm
-    /// down (five windows) is cut back to a sound state and reported as not sound whole; a
+    /// the stabilisation fades: on the pressed pair, a step carrying the upper sphere five
+    /// contact windows down is cut back to a sound state and reported as not sound whole; a
     /// step of a hundredth of the window is taken whole.
     #[test]
     fn the_line_search_tells_a_whole_step_that_went_through() {

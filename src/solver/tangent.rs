@@ -35,8 +35,10 @@
 //!   or less, as little as lets the load move the body a spacing ([`stabilisation_stiffness`]),
 //!   along its own normal, and a deformable master that its loads push where no support
 //!   holds it the same on the nodes of a segment the slave may touch (the body held only by
-//!   contact may be the master), times a factor that the Newton loop halves each iteration. The residual is untouched, so the equilibrium is the same; only the path to
-//!   it changes.
+//!   contact may be the master), times a factor that the Newton loop halves after each
+//!   iteration whose whole step was sound (one that carried a slave through its master
+//!   leaves it: the body is not held yet). The residual is untouched, so the equilibrium is
+//!   the same; only the path to it changes.
 
 use nalgebra::Matrix3;
 
