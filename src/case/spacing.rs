@@ -157,8 +157,8 @@ mod tests {
         assert!(worst < 0.12, "{worst}");
     }
 
-    #[test]
-    fn a_uniform_lattice_is_not_graded() {
+    /// A cube of 12 × 12 × 12 particles 0.05 apart.
+    fn lattice() -> Vec<Vec3> {
         let mut p = Vec::new();
         for i in 0..12 {
             for j in 0..12 {
@@ -167,6 +167,12 @@ mod tests {
                 }
             }
         }
+        p
+    }
+
+    #[test]
+    fn a_uniform_lattice_is_not_graded() {
+        let p = lattice();
         let v = vec![0.05f64.powi(3); p.len()];
         assert!(graded_spacing(&p, &v, 0.05).is_none());
     }
@@ -176,14 +182,7 @@ mod tests {
     /// theirs, so that their horizon reaches their neighbours.
     #[test]
     fn a_few_coarse_particles_make_a_mesh_graded() {
-        let mut p = Vec::new();
-        for i in 0..12 {
-            for j in 0..12 {
-                for k in 0..12 {
-                    p.push(Vec3::new(i as f64, j as f64, k as f64) * 0.05);
-                }
-            }
-        }
+        let mut p = lattice();
         let mut v = vec![0.05f64.powi(3); p.len()];
         let fine = p.len();
         for k in 0..8 {

@@ -124,31 +124,28 @@ pub(super) fn unbonded_particles(model: &Model, density: &[Vec<f64>]) -> Result<
         let node = case.mesh.node_ids[case.particles.node[first] as usize];
         let x = case.particles.position[first];
         // Where the horizon already follows a graded mesh, the advice to let it is no help.
-        if let Some(s) = &case.local_spacing {
-            return Err(Error::input(format!(
-                "body \"{}\": {} of its {} particles have no bond (the first: node {node} at [{:.4}, {:.4}, {:.4}]), so a static run cannot hold them: the horizon follows the graded mesh (δ = {:.4e} m there, its local spacing {:.4e} m times {}), and is still shorter than the distance to their nearest neighbours; the mesh coarsens faster there than the local spacing follows. Grade the mesh more gently towards that region, or give a larger `horizon_factor`",
-                pd.name,
-                count,
-                pd.len(),
-                x.x,
-                x.y,
-                x.z,
+        let why = match &case.local_spacing {
+            Some(s) => format!(
+                "the horizon follows the graded mesh (δ = {:.4e} m there, its local spacing {:.4e} m times {}), and is still shorter than the distance to their nearest neighbours; the mesh coarsens faster there than the local spacing follows. Grade the mesh more gently towards that region, or give a larger `horizon_factor`",
                 case.horizon_factor * s[first],
                 s[first],
                 case.horizon_factor
-            )));
-        }
+            ),
+            None => format!(
+                "the horizon δ = {:.4e} m (Δ = {:.4e} m times {}) is shorter than the distance to their nearest neighbours; the mesh is coarser there than elsewhere. Leave the body's `spacing` unset and `horizon = \"local\"` (the default), so that the horizon follows a graded mesh, or give a larger `spacing`",
+                case.horizon,
+                case.particles.spacing,
+                case.horizon_factor
+            ),
+        };
         return Err(Error::input(format!(
-            "body \"{}\": {} of its {} particles have no bond (the first: node {node} at [{:.4}, {:.4}, {:.4}]), so a static run cannot hold them: the horizon δ = {:.4e} m (Δ = {:.4e} m times {}) is shorter than the distance to their nearest neighbours; the mesh is coarser there than elsewhere. Leave the body's `spacing` unset and `horizon = \"local\"` (the default), so that the horizon follows a graded mesh, or give a larger `spacing`",
+            "body \"{}\": {} of its {} particles have no bond (the first: node {node} at [{:.4}, {:.4}, {:.4}]), so a static run cannot hold them: {why}",
             pd.name,
             count,
             pd.len(),
             x.x,
             x.y,
             x.z,
-            case.horizon,
-            case.particles.spacing,
-            case.horizon_factor
         )));
     }
     Ok(())

@@ -650,8 +650,7 @@ fn line_search(
 mod tests {
     use super::super::coarse::tests::stacked;
     use super::super::dofs::Dofs;
-    use super::super::predict::with_contacts;
-    use super::super::tangent::Tangent;
+    use super::super::predict::tests::pressed_with_reach;
     use super::super::{applied_norm, RunStats, Silent};
     use super::{line_search, newton, relax, residual, stalled, Counts, STALL_WINDOW};
 
@@ -683,12 +682,7 @@ mod tests {
     /// step of a hundredth of the window is taken whole.
     #[test]
     fn the_line_search_tells_a_whole_step_that_went_through() {
-        let mut model = stacked();
-        newton(&mut model, 1e-5, 200, 1, &mut Silent).expect("the pair converges");
-        let mut blocks = vec![None; model.bodies.len()];
-        let mut tangent = Tangent::new(&model, 0.0, None, &mut blocks, false);
-        let (rhs, mut d) = (Dofs::zeros(&model), Dofs::zeros(&model));
-        let (_, reach) = with_contacts(&mut model, &mut tangent, &rhs, &mut d, |_, _, _, _| 0);
+        let (mut model, reach) = pressed_with_reach();
         let upper = model.passes[0].slave;
         let window = model.passes[0].law.window;
         let mut scratch = Dofs::zeros(&model);
@@ -703,8 +697,7 @@ mod tests {
             Some(false)
         );
         assert_eq!(model.missed_contacts(), 0);
-        let mut model = stacked();
-        newton(&mut model, 1e-5, 200, 1, &mut Silent).expect("the pair converges");
+        let (mut model, _) = pressed_with_reach();
         assert_eq!(
             line_search(&mut model, &near, 1.0, &reach, &mut scratch),
             Some(true)

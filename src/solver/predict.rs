@@ -263,14 +263,26 @@ fn springs_and_rhs(
 }
 
 #[cfg(test)]
-mod tests {
+pub(in crate::solver) mod tests {
     use super::super::coarse::tests::stacked;
     use super::super::dofs::Dofs;
     use super::super::newton::newton;
     use super::super::state::State;
     use super::super::tangent::Tangent;
     use super::super::Silent;
-    use super::{held_contacts, let_go, release, with_contacts};
+    use super::{held_contacts, let_go, release, with_contacts, Reach};
+    use crate::model::Model;
+
+    /// The pressed gmsh tet4 pair at its equilibrium, and the reach of its contacts there.
+    pub(in crate::solver) fn pressed_with_reach() -> (Model, Reach) {
+        let mut model = stacked();
+        newton(&mut model, 1e-5, 200, 1, &mut Silent).expect("the pair converges");
+        let mut blocks = vec![None; model.bodies.len()];
+        let mut tangent = Tangent::new(&model, 0.0, None, &mut blocks, false);
+        let (rhs, mut d) = (Dofs::zeros(&model), Dofs::zeros(&model));
+        let (_, reach) = with_contacts(&mut model, &mut tangent, &rhs, &mut d, |_, _, _, _| 0);
+        (model, reach)
+    }
 
     /// At the pressed gmsh tet4 pair's equilibrium: a step that leaves the bodies where they
     /// are keeps every contact; one that lifts the upper body by more than any contact's
@@ -321,12 +333,7 @@ mod tests {
     /// of a tenth of the window does not.
     #[test]
     fn a_step_through_the_partner_is_told_though_the_search_sees_nothing() {
-        let mut model = stacked();
-        newton(&mut model, 1e-5, 200, 1, &mut Silent).expect("the pair converges");
-        let mut blocks = vec![None; model.bodies.len()];
-        let mut tangent = Tangent::new(&model, 0.0, None, &mut blocks, false);
-        let (rhs, mut d) = (Dofs::zeros(&model), Dofs::zeros(&model));
-        let (_, reach) = with_contacts(&mut model, &mut tangent, &rhs, &mut d, |_, _, _, _| 0);
+        let (mut model, reach) = pressed_with_reach();
         let upper = model.passes[0].slave;
         let mut down = Dofs::zeros(&model);
         down.pd[upper].fill(-crate::math::Vec3::z() * 5.0);
